@@ -1,0 +1,38 @@
+"""Stage 2: lift a raw XMI model into the typed EARL model."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from earl_m2t.diagnostics import Diagnostic
+from earl_m2t.lift.datatypes import DataTypeLifter
+from earl_m2t.lift.recognise import Recogniser
+from earl_m2t.lift.structure import StructureLifter
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.profile import Profile, load_profile
+from earl_m2t.read.xmi import RawModel
+
+
+@dataclass(frozen=True)
+class LiftResult:
+    model: EarlModel
+    diagnostics: tuple[Diagnostic, ...]
+
+
+def lift(raw: RawModel, profile: Profile | None = None) -> LiftResult:
+    """Recognise the EARL concepts of a raw model and build the typed EARL model."""
+    profile = profile or load_profile()
+    recogniser = Recogniser(raw, profile)
+    types = DataTypeLifter(raw)
+    structure = StructureLifter(raw, recogniser, types)
+    systems = structure.systems()
+    model_name = next((raw.name(r) for r in raw.model_roots if raw.name(r)), "")
+    model = EarlModel(
+        file=raw.file,
+        dialect=raw.dialect,
+        name=model_name,
+        systems=tuple(systems),
+        datatypes=dict(sorted(types.datatypes.items())),
+        has_earl_content=bool(systems) or structure.recognised_anything,
+    )
+    return LiftResult(model, tuple(raw.diagnostics) + tuple(structure.diagnostics))

@@ -1,0 +1,47 @@
+"""The public entry points: load a model file, check it. Pure functions over a path."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from earl_m2t.check.engine import CheckOptions, check_model, deduplicate
+from earl_m2t.diagnostics import Diagnostic
+from earl_m2t.lift import lift
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.read.xmi import load_raw_model
+
+
+@dataclass(frozen=True)
+class Loaded:
+    """A lifted model plus what reading and lifting found on the way."""
+
+    model: EarlModel
+    diagnostics: tuple[Diagnostic, ...]
+
+
+def load(path: Path | str) -> Loaded:
+    """Read and lift a model file; raises :class:`earl_m2t.diagnostics.ModelReadError` when unreadable."""
+    raw = load_raw_model(Path(path))
+    result = lift(raw)
+    return Loaded(result.model, result.diagnostics)
+
+
+def check(path: Path | str, options: CheckOptions | None = None) -> list[Diagnostic]:
+    """Every enabled diagnostic for one model file, sorted by location."""
+    options = options or CheckOptions()
+    loaded = load(path)
+    return check_loaded(loaded, options)
+
+
+def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
+    from earl_m2t.check.registry import catalogue
+
+    rules = catalogue()
+    reader_findings = [
+        Diagnostic(d.code, options.severity(rules[d.code]) if d.code in rules else d.severity, d.message,
+                   d.location, d.element)
+        for d in loaded.diagnostics
+        if options.enabled(d.code)
+    ]
+    return deduplicate(reader_findings + check_model(loaded.model, options))

@@ -1,0 +1,138 @@
+"""Stage 3: run the selected rules over a lifted model and return sorted diagnostics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from typing import Iterable, Iterator
+
+from earl_m2t.check.registry import Finding, RuleInfo, catalogue, python_rules
+from earl_m2t.diagnostics import Diagnostic, Severity
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.ocl import Invariant, OclEvaluationError, check as ocl_check, parse_invariants
+from earl_m2t.resources import metamodel_path
+
+
+@dataclass(frozen=True)
+class CheckOptions:
+    select: frozenset[str] | None = None  # None: every rule
+    ignore: frozenset[str] = frozenset()
+    severities: tuple[tuple[str, Severity], ...] = ()  # per-rule severity overrides
+
+    def enabled(self, code: str) -> bool:
+        return (self.select is None or code in self.select) and code not in self.ignore
+
+    def severity(self, info: RuleInfo) -> Severity:
+        return dict(self.severities).get(info.code, info.severity)
+
+
+@cache
+def builtin_invariants() -> tuple[Invariant, ...]:
+    path = metamodel_path("rules", "invariants.ocl")
+    return tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path)))
+
+
+def context_objects(model: EarlModel, context: str) -> Iterator[object]:
+    """The objects an OCL ``context`` type ranges over; replicated subsystems count once."""
+    if context == "System":
+        yield from model.systems
+    elif context == "Robot":
+        yield from model.robots
+    elif context == "Agent":
+        yield from model.agents
+    elif context == "Subsystem":
+        yield from model.definitions()
+    elif context == "Buffer":
+        for sub in model.definitions():
+            yield from sub.buffers
+    elif context == "Memory":
+        for sub in model.definitions():
+            yield from sub.memory
+    elif context == "State":
+        for sub in model.definitions():
+            if sub.fsm is not None:
+                yield from sub.fsm.states
+    elif context == "Link":
+        yield from model.links
+    elif context == "DataType":
+        yield from model.datatypes.values()
+    else:
+        raise KeyError(context)
+
+
+class _Fields(dict):
+    """Message formatting: ``{path}``, ``{name}`` … from the element's attributes."""
+
+    def __init__(self, element: object) -> None:
+        super().__init__()
+        self.element = element
+
+    def __missing__(self, key: str) -> str:
+        return str(getattr(self.element, key, "?"))
+
+
+def run_invariant(info: RuleInfo, invariant: Invariant, model: EarlModel) -> Iterator[Finding]:
+    for obj in context_objects(model, invariant.context):
+        try:
+            holds = ocl_check(invariant, obj)
+        except OclEvaluationError as exc:
+            holds = False
+            message = f"{info.message.format_map(_Fields(obj))} (rule could not be evaluated: {exc})"
+        else:
+            message = info.message.format_map(_Fields(obj))
+        if not holds:
+            yield Finding(message, obj.location, getattr(obj, "path", getattr(obj, "name", "")))  # type: ignore[attr-defined]
+
+
+def check_model(model: EarlModel, options: CheckOptions | None = None) -> list[Diagnostic]:
+    """Every finding of the enabled rules, deduplicated and sorted by location."""
+    options = options or CheckOptions()
+    rules = catalogue()
+    implementations = python_rules()
+    found: list[Diagnostic] = []
+    if not model.has_earl_content:
+        if options.enabled("R003"):
+            info = rules["R003"]
+            found.append(Diagnostic("R003", options.severity(info), f"{model.file} holds no EARL model "
+                                    "(no System, Robot or Agent recognised)", _file_location(model)))
+        return found
+    invariants: dict[str, list[Invariant]] = {}
+    for invariant in builtin_invariants():
+        invariants.setdefault(invariant.name, []).append(invariant)
+    for code, info in rules.items():
+        if not options.enabled(code):
+            continue
+        findings: Iterable[Finding]
+        if info.engine == "ocl":
+            findings = (f for inv in invariants.get(code, []) for f in run_invariant(info, inv, model))
+        elif code in implementations:
+            findings = implementations[code](model)
+        else:
+            continue
+        severity = options.severity(info)
+        found.extend(Diagnostic(code, severity, f.message, f.location, f.element) for f in findings)
+    return deduplicate(found)
+
+
+def deduplicate(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
+    """One finding per rule and source position: replicated instances share their definition."""
+    seen: set[tuple[str, str, int, int, str, str]] = set()
+    unique = []
+    for diag in diagnostics:
+        loc = diag.location
+        key = (diag.code, loc.file, loc.line, loc.column, loc.xmi_id, _template(diag.message))
+        if key not in seen:
+            seen.add(key)
+            unique.append(diag)
+    return sorted(unique, key=Diagnostic.sort_key)
+
+
+def _template(message: str) -> str:
+    """Messages of replicated instances differ only in the instance index."""
+    return "".join("#" if ch.isdigit() else ch for ch in message)
+
+
+def _file_location(model: EarlModel):
+    from earl_m2t.model.location import Location
+
+    return Location(model.file, 1)

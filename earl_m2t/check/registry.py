@@ -1,0 +1,121 @@
+"""The rule registry: one catalogue row per code, joined with its implementation and its doc.
+
+Rows come from ``metamodel/rules/catalogue.toml``; OCL rules are the invariants of
+``metamodel/rules/invariants.ocl``; Python rules register themselves with :func:`rule`.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+from typing import Callable, Iterable, Iterator
+
+from earl_m2t.diagnostics import Severity
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.location import Location
+from earl_m2t.resources import metamodel_path
+
+
+@dataclass(frozen=True, slots=True)
+class RuleInfo:
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+    source: str
+    engine: str  # "ocl" | "python"
+    message: str  # message template of ocl rules
+
+    @property
+    def family(self) -> str:
+        return self.code[0]
+
+    def doc(self) -> str:
+        """The rule's page (what, why, bad and good example), or its summary when it has none."""
+        path = metamodel_path("rules", "docs", f"{self.code}.md")
+        if path.is_file():
+            return path.read_text(encoding="utf-8")
+        return f"# {self.code} {self.name} ({self.severity.value})\n\n{self.summary}\n"
+
+
+@dataclass(frozen=True, slots=True)
+class Finding:
+    """What a rule implementation reports; the engine adds code and severity."""
+
+    message: str
+    location: Location
+    element: str = ""
+
+
+RuleFunction = Callable[[EarlModel], Iterable[Finding]]
+_PYTHON_RULES: dict[str, RuleFunction] = {}
+
+
+def rule(code: str) -> Callable[[RuleFunction], RuleFunction]:
+    """Register the Python implementation of a catalogue rule."""
+
+    def register(function: RuleFunction) -> RuleFunction:
+        if code in _PYTHON_RULES:
+            raise ValueError(f"rule {code} is implemented twice")
+        _PYTHON_RULES[code] = function
+        return function
+
+    return register
+
+
+def python_rules() -> dict[str, RuleFunction]:
+    # importing the rule modules registers their functions
+    from earl_m2t.check.rules import behaviour, connection, datatype, transition  # noqa: F401
+
+    return dict(_PYTHON_RULES)
+
+
+@cache
+def catalogue() -> dict[str, RuleInfo]:
+    data = tomllib.loads(metamodel_path("rules", "catalogue.toml").read_text(encoding="utf-8"))
+    rules = {}
+    for code, row in data["rules"].items():
+        rules[code] = RuleInfo(
+            code=code,
+            name=row["name"],
+            severity=Severity.parse(row["severity"]),
+            summary=row["summary"],
+            source=row["source"],
+            engine=row["engine"],
+            message=row.get("message", ""),
+        )
+    return dict(sorted(rules.items(), key=lambda item: _code_order(item[0])))
+
+
+@cache
+def retired_codes() -> dict[str, str]:
+    data = tomllib.loads(metamodel_path("rules", "catalogue.toml").read_text(encoding="utf-8"))
+    return dict(data.get("retired", {}))
+
+
+_FAMILY_ORDER = "SCBTDR"
+
+
+def _code_order(code: str) -> tuple[int, str]:
+    family = _FAMILY_ORDER.find(code[0])
+    return (family if family >= 0 else len(_FAMILY_ORDER), code)
+
+
+def select_codes(selectors: Iterable[str]) -> set[str]:
+    """Expand ``--select`` / ``--ignore`` items: full codes, prefixes (``S``, ``B00``) or rule names."""
+    known = catalogue()
+    chosen: set[str] = set()
+    for selector in selectors:
+        item = selector.strip()
+        if not item:
+            continue
+        matches = {code for code, info in known.items() if code.startswith(item.upper()) or info.name == item}
+        if not matches:
+            raise KeyError(item)
+        chosen |= matches
+    return chosen
+
+
+def iter_rules() -> Iterator[RuleInfo]:
+    yield from catalogue().values()

@@ -1,0 +1,85 @@
+"""B rules: FSMs, states, transitions and the conditions they carry (paper Figs. 3, 5; Tables 5, 6)."""
+
+from __future__ import annotations
+
+from typing import Iterator
+
+from earl_m2t.check.registry import Finding, rule
+from earl_m2t.model.conditions import ConditionResolver, conditions_of, parse_condition
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.graph import unreachable_states
+
+
+@rule("B001")
+def fsm_initial_state_count(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        if sub.fsm is None:
+            yield Finding(f"subsystem {sub.path} has no state machine (its FSM)", sub.location, sub.path)
+            continue
+        fsm = sub.fsm
+        if sub.fsm_count > 1:
+            yield Finding(f"subsystem {sub.path} owns {sub.fsm_count} state machines; its FSM is the "
+                          "classifier behaviour, the others are ignored", fsm.location, fsm.path)
+        initials = fsm.initial_states
+        if not initials:
+            yield Finding(f"{fsm.path} has no initial state (no transition from an initial pseudostate)",
+                          fsm.location, fsm.path)
+        elif len(initials) > 1:
+            shown = ", ".join(name or "(nowhere)" for name in initials)
+            yield Finding(f"{fsm.path} has {len(initials)} initial states ({shown})", fsm.location, fsm.path)
+        elif not initials[0]:
+            yield Finding(f"{fsm.path}: the initial pseudostate leads to no state", fsm.location, fsm.path)
+
+
+@rule("B003")
+def transition_leaves_fsm(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        if sub.fsm is None:
+            continue
+        for tr in sub.fsm.transitions:
+            ends = []
+            if tr.source_foreign:
+                ends.append(f"source {tr.source or '?'}")
+            if tr.target_foreign:
+                ends.append(f"destination {tr.target or '?'}")
+            if ends:
+                yield Finding(f"transition {tr.path}: {' and '.join(ends)} is not a state of {sub.fsm.path}",
+                              tr.location, tr.path)
+
+
+@rule("B004")
+def unreachable_state(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        if sub.fsm is None:
+            continue
+        for name in unreachable_states(sub.fsm):
+            state = sub.fsm.state(name)
+            assert state is not None
+            yield Finding(f"state {state.path} cannot be reached from the initial state {sub.fsm.initial}",
+                          state.location, state.path)
+
+
+@rule("B005")
+def predicate_unknown_reference(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        resolver = ConditionResolver(model, sub)
+        for condition in conditions_of(sub):
+            expr, problem = parse_condition(condition)
+            if expr is None:
+                continue
+            for found in resolver.problems(expr, condition):
+                yield Finding(f"{condition.owner}: {found.message}", found.location, condition.owner)
+        for exclusion in sub.exclusions:
+            for name in exclusion.predicates:
+                if resolver.predicate(name) is None:
+                    yield Finding(f"exclusion '{exclusion.name}' of {sub.path} names unknown primitive predicate "
+                                  f"'{name}'", exclusion.location, f"{sub.path}.{exclusion.name}")
+
+
+@rule("B008")
+def predicate_syntax_error(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        for condition in conditions_of(sub):
+            _, problem = parse_condition(condition)
+            if problem is not None:
+                yield Finding(f"{condition.owner}: {problem.message}", problem.location, condition.owner)

@@ -1,0 +1,137 @@
+"""C rules: communication links between subsystems and agents (paper Sec. 2.3, Fig. 7)."""
+
+from __future__ import annotations
+
+import tomllib
+from functools import cache
+from typing import Iterator
+
+from earl_m2t.check.registry import Finding, rule
+from earl_m2t.model.elements import EarlModel, Link
+from earl_m2t.model.graph import subsystem_graph
+from earl_m2t.model.typecompare import structural_difference
+from earl_m2t.resources import metamodel_path
+
+
+@cache
+def permitted_links() -> dict[str, frozenset[tuple[str, str]]]:
+    table = tomllib.loads(metamodel_path("tables", "permitted-links.toml").read_text("utf-8"))
+    return {scope: frozenset((a, b) for a, b in table[scope]) for scope in ("inter_subsystem", "inter_agent")}
+
+
+def _kinds(model: EarlModel, link: Link) -> tuple[str, str] | None:
+    source = model.subsystem_of(link.source)
+    target = model.subsystem_of(link.target)
+    if source is None or target is None:
+        return None
+    return source.kind, target.kind
+
+
+@rule("C001")
+def link_not_output_to_input(model: EarlModel) -> Iterator[Finding]:
+    for link in model.links:
+        if not link.source or not link.target:
+            kinds = [model.buffer(end) for end in link.ends]
+            directions = " and ".join(
+                ("an Output Buffer" if b.direction == "out" else "an Input Buffer") if b else "no buffer" for b in kinds
+            )
+            yield Finding(f"link {link.path} connects {directions}; a link goes from an Output Buffer to an "
+                          "Input Buffer", link.location, link.path)
+
+
+@rule("C002")
+def link_kinds_not_permitted(model: EarlModel) -> Iterator[Finding]:
+    table = permitted_links()
+    for link in model.links:
+        kinds = _kinds(model, link)
+        if kinds is None:
+            continue
+        source = model.subsystem_of(link.source)
+        target = model.subsystem_of(link.target)
+        assert source is not None and target is not None
+        scope = "inter_agent" if source.agent != target.agent else "inter_subsystem"
+        if kinds not in table[scope]:
+            what = "between agents" if scope == "inter_agent" else "inside an agent"
+            yield Finding(f"link {link.path} goes {kinds[0]} → {kinds[1]} {what}, which EARL does not permit",
+                          link.location, link.path)
+
+
+@rule("C003")
+def inter_agent_link_not_cs_to_cs(model: EarlModel) -> Iterator[Finding]:
+    for link in model.links:
+        if link.scope != "system":
+            continue
+        source = model.subsystem_of(link.source)
+        target = model.subsystem_of(link.target)
+        if source is None or target is None:
+            continue
+        if source.agent == target.agent:
+            yield Finding(f"inter-agent link {link.path} stays inside agent {source.agent}", link.location, link.path)
+        elif source.kind != "cs" or target.kind != "cs":
+            yield Finding(f"inter-agent link {link.path} joins {source.path} and {target.path}; only control "
+                          "subsystems talk to other agents", link.location, link.path)
+
+
+@rule("C004")
+def real_effector_unreached(model: EarlModel) -> Iterator[Finding]:
+    graph = subsystem_graph(model)
+    for agent in model.agents:
+        for re in agent.re:
+            chains = [ve for ve in graph.predecessors(re.path)
+                      if graph.nodes[ve]["kind"] == "ve" and graph.nodes[ve]["agent"] == agent.path
+                      and any(graph.nodes[cs]["kind"] == "cs" for cs in graph.predecessors(ve))]
+            if not chains:
+                yield Finding(f"real effector {re.path} is not reached by a chain cs → ve → re", re.location, re.path)
+
+
+@rule("C005")
+def real_receptor_unheard(model: EarlModel) -> Iterator[Finding]:
+    graph = subsystem_graph(model)
+    for agent in model.agents:
+        for rr in agent.rr:
+            chains = [vr for vr in graph.successors(rr.path)
+                      if graph.nodes[vr]["kind"] == "vr" and graph.nodes[vr]["agent"] == agent.path
+                      and any(graph.nodes[cs]["kind"] == "cs" for cs in graph.successors(vr))]
+            if not chains:
+                yield Finding(f"real receptor {rr.path} does not reach the control subsystem by a chain "
+                              "rr → vr → cs", rr.location, rr.path)
+
+
+@rule("C006")
+def link_datatype_mismatch(model: EarlModel) -> Iterator[Finding]:
+    for link in model.links:
+        source, target = model.buffer(link.source), model.buffer(link.target)
+        if source is None or target is None or not source.datatype or not target.datatype:
+            continue
+        difference = structural_difference(model.datatypes, source.datatype, target.datatype)
+        if difference:
+            yield Finding(f"link {link.path} sends {source.datatype} into {target.datatype}: {difference}",
+                          link.location, link.path)
+
+
+@rule("C007")
+def input_buffer_unfed(model: EarlModel) -> Iterator[Finding]:
+    fed = {link.target for link in model.links if link.target} | {
+        end for link in model.links for end in link.ends if end and not link.target
+    }
+    for sub in model.subsystems:
+        for buf in sub.inputs:
+            if buf.path not in fed:
+                yield Finding(f"input buffer {buf.path} is fed by no link", buf.location, buf.path)
+
+
+@rule("C008")
+def link_name_convention(model: EarlModel) -> Iterator[Finding]:
+    for link in model.links:
+        source = model.subsystem_of(link.source)
+        target = model.subsystem_of(link.target)
+        if source is None or target is None:
+            continue
+        if link.scope == "system":
+            expected = f"{source.agent},{target.agent}"
+        else:
+            expected = f"{source.name},{target.name}"
+        if link.name.replace(" ", "") != expected:
+            shown = f"'{link.name}'" if link.name else "no name"
+            yield Finding(f"link {link.path} has {shown}; by convention it is named '{expected}'",
+                          link.location, link.path)

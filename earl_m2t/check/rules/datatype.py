@@ -1,0 +1,86 @@
+"""D rules: dataTypes and the names generators turn into identifiers and files."""
+
+from __future__ import annotations
+
+from typing import Iterator
+
+import networkx as nx
+
+from earl_m2t.check.registry import Finding, rule
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.graph import datatype_graph
+from earl_m2t.model.location import Location
+from earl_m2t.model.naming import collision_key, identifier_problem
+
+
+@rule("D001")
+def unresolved_type(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        for item in (*sub.buffers, *sub.memory):
+            if item.type_ref and not item.datatype:
+                yield Finding(f"{item.path} is typed by '{item.type_ref}', which cannot be resolved",
+                              item.location, item.path)
+    for datatype in model.datatypes.values():
+        for field in datatype.fields:
+            if field.type_ref and not field.type:
+                yield Finding(f"field {datatype.qualified_name}.{field.name} is typed by '{field.type_ref}', "
+                              "which cannot be resolved", field.location, f"{datatype.qualified_name}.{field.name}")
+            elif not field.type and not field.type_ref:
+                yield Finding(f"field {datatype.qualified_name}.{field.name} has no type", field.location,
+                              f"{datatype.qualified_name}.{field.name}")
+
+
+@rule("D002")
+def recursive_datatype(model: EarlModel) -> Iterator[Finding]:
+    graph = datatype_graph(model)
+    for cycle in sorted(nx.simple_cycles(graph), key=lambda c: sorted(c)):
+        start = min(cycle)
+        at = cycle.index(start)
+        ordered = cycle[at:] + cycle[:at]
+        datatype = model.datatypes[start]
+        shown = " → ".join(ordered + [start])
+        yield Finding(f"dataType {start} contains itself by value ({shown})", datatype.location, start)
+
+
+def _named(model: EarlModel) -> Iterator[tuple[str, str, Location, str]]:
+    """(name, path, location, scope) of every element whose name a generator uses."""
+    for agent in model.agents:
+        yield agent.name, agent.path, agent.location, "agents"
+        for sub in agent.subsystems:
+            yield sub.name, sub.path, sub.location, f"{agent.path} subsystems"
+    for sub in model.definitions():
+        scope = f"{sub.path} members"
+        for item in (*sub.buffers, *sub.memory, *sub.functions, *sub.predicates):
+            yield item.name, item.path, item.location, scope
+        for bb in sub.behaviours:
+            yield bb.name, bb.path, bb.location, f"{sub.path} behaviours"
+        if sub.fsm is not None:
+            for state in sub.fsm.states:
+                yield state.name, state.path, state.location, f"{sub.fsm.path} states"
+    for key, datatype in model.datatypes.items():
+        if datatype.location.file == "<builtin>":
+            continue
+        yield datatype.name, key, datatype.location, "dataTypes"
+        for field in datatype.fields:
+            yield field.name, f"{key}.{field.name}", field.location, f"{key} fields"
+
+
+@rule("D003")
+def name_not_identifier(model: EarlModel) -> Iterator[Finding]:
+    for name, path, location, _ in _named(model):
+        problem = identifier_problem(name)
+        if problem:
+            yield Finding(f"{path}: the name cannot become a C++ / ROS identifier: {problem}", location, path)
+
+
+@rule("D004")
+def identifier_collision(model: EarlModel) -> Iterator[Finding]:
+    by_scope: dict[tuple[str, str], list[tuple[str, str, Location]]] = {}
+    for name, path, location, scope in _named(model):
+        by_scope.setdefault((scope, collision_key(name)), []).append((name, path, location))
+    for (_, key), items in by_scope.items():
+        names = list(dict.fromkeys(name for name, _, _ in items))
+        if len(names) > 1 or len({location for _, _, location in items}) > 1:
+            _, path, location = items[1]
+            yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier '{key}'",
+                          location, path)

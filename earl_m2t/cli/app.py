@@ -1,0 +1,50 @@
+"""The ``earl-m2t`` command line: argument parsing, dispatch, exit codes.
+
+Exit codes: 0 success (no error-severity finding), 1 error findings, 2 bad usage or a model
+that cannot be read, 3 an internal error (reported in one line, never as a traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Sequence
+
+from earl_m2t import __version__
+from earl_m2t.cli import check as check_command
+from earl_m2t.cli import rules as rules_command
+from earl_m2t.cli import show as show_command
+
+EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line and exit 2, as for unreadable models
+        self.exit(EXIT_USAGE, f"earl-m2t: {message} (see earl-m2t --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="earl-m2t", description="Read, check and generate code from EARL models in SysML.")
+    parser.add_argument("--version", action="version", version=f"earl-m2t {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    check_command.add_parser(commands)
+    show_command.add_parser(commands)
+    rules_command.add_parser(commands)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not args.command:
+        parser.print_help(sys.stderr)
+        return EXIT_USAGE
+    try:
+        return int(args.run(args))
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        return EXIT_OK
+    except Exception as exc:  # a bug in earl-m2t: still one line, never a traceback
+        print(f"earl-m2t: internal error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return EXIT_INTERNAL

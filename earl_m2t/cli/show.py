@@ -1,0 +1,32 @@
+"""``earl-m2t show MODEL``: print the lifted EARL model (outline or JSON)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from earl_m2t.api import load
+from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.export import model_to_dict
+from earl_m2t.render.show_text import render_model
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    parser = commands.add_parser("show", help="print the EARL model lifted from a model file")
+    parser.add_argument("model", metavar="MODEL")
+    parser.add_argument("--format", choices=("text", "json"), default="text")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        loaded = load(args.model)
+    except ModelReadError as exc:
+        print(exc.one_line(), file=sys.stderr)
+        return 2
+    if args.format == "json":
+        sys.stdout.write(json.dumps(model_to_dict(loaded.model), indent=2, ensure_ascii=False) + "\n")
+    else:
+        sys.stdout.write(render_model(loaded.model))
+    return 0

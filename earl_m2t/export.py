@@ -1,0 +1,163 @@
+"""The lifted model as plain data: what ``earl-m2t show --format json`` prints.
+
+The keys are documented in README.md ("show --format json") and kept stable.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from earl_m2t.model.elements import (
+    Agent,
+    BasicBehaviour,
+    Buffer,
+    Condition,
+    DataType,
+    EarlModel,
+    Fsm,
+    Link,
+    Memory,
+    Subsystem,
+    System,
+)
+from earl_m2t.model.location import Location
+
+FORMAT_VERSION = 1
+
+
+def _where(location: Location) -> dict[str, Any]:
+    return {"line": location.line, "xmi_id": location.xmi_id}
+
+
+def _condition(condition: Condition | None) -> str | None:
+    return condition.text if condition is not None else None
+
+
+def _multiplicity(lower: int, upper: int | None) -> str:
+    upper_text = "*" if upper is None else str(upper)
+    return upper_text if lower == upper else f"{lower}..{upper_text}"
+
+
+def model_to_dict(model: EarlModel) -> dict[str, Any]:
+    return {
+        "format": FORMAT_VERSION,
+        "file": model.file,
+        "dialect": model.dialect,
+        "model": model.name,
+        "earl": model.has_earl_content,
+        "systems": [_system(s) for s in model.systems],
+        "datatypes": [_datatype(d) for d in model.datatypes.values()],
+    }
+
+
+def _system(system: System) -> dict[str, Any]:
+    return {
+        "name": system.name,
+        "recognised_by": system.recognised_by,
+        **_where(system.location),
+        "robots": [
+            {"name": r.name, "block": r.block, "agents": list(r.agents), "recognised_by": r.recognised_by,
+             **_where(r.location)}
+            for r in system.robots
+        ],
+        "agents": [_agent(a) for a in system.agents],
+        "links": [_link(l) for l in system.links],
+    }
+
+
+def _agent(agent: Agent) -> dict[str, Any]:
+    return {
+        "name": agent.name,
+        "path": agent.path,
+        "block": agent.block,
+        "robot": agent.robot or None,
+        "type": agent.computed_type,
+        "declared_type": agent.declared_type or None,
+        "recognised_by": agent.recognised_by,
+        **_where(agent.location),
+        "subsystems": [_subsystem(s) for s in agent.subsystems],
+        "links": [_link(l) for l in agent.links],
+    }
+
+
+def _buffer(buf: Buffer | Memory) -> dict[str, Any]:
+    return {"name": buf.name, "path": buf.path, "datatype": buf.datatype or None, "template": buf.template,
+            **_where(buf.location)}
+
+
+def _subsystem(sub: Subsystem) -> dict[str, Any]:
+    return {
+        "name": sub.name,
+        "path": sub.path,
+        "kind": sub.kind,
+        "block": sub.block,
+        "template": sub.template,
+        "recognised_by": sub.recognised_by,
+        **_where(sub.location),
+        "inputs": [_buffer(b) for b in sub.inputs],
+        "outputs": [_buffer(b) for b in sub.outputs],
+        "memory": [_buffer(m) for m in sub.memory],
+        "fsm": _fsm(sub.fsm) if sub.fsm is not None else None,
+        "behaviours": [_behaviour(b) for b in sub.behaviours],
+        "functions": [
+            {"name": pf.name, "reads": [p.rpartition(".")[2] for p in pf.reads],
+             "writes": [p.rpartition(".")[2] for p in pf.writes], "language": pf.language or None,
+             **_where(pf.location)}
+            for pf in sub.functions
+        ],
+        "predicates": [
+            {"name": pp.name, "fun": _condition(pp.fun), "language": pp.language or None,
+             "user_code": pp.fun is None, **_where(pp.location)}
+            for pp in sub.predicates
+        ],
+        "exclusions": [{"name": e.name, "predicates": list(e.predicates), **_where(e.location)} for e in sub.exclusions],
+    }
+
+
+def _fsm(fsm: Fsm) -> dict[str, Any]:
+    return {
+        "name": fsm.name,
+        "initial": fsm.initial,
+        **_where(fsm.location),
+        "states": [{"name": s.name, "behaviour": s.behaviours[0] if len(s.behaviours) == 1 else None,
+                    **_where(s.location)} for s in fsm.states],
+        "transitions": [
+            {"name": t.name, "source": t.source, "target": t.target, "condition": _condition(t.condition),
+             "priority": t.priority, **_where(t.location)}
+            for t in fsm.transitions
+        ],
+    }
+
+
+def _behaviour(bb: BasicBehaviour) -> dict[str, Any]:
+    return {
+        "name": bb.name,
+        "tc": _condition(bb.tc),
+        "ec": _condition(bb.ec),
+        "stages": [list(stage) for stage in bb.stages],
+        **_where(bb.location),
+    }
+
+
+def _link(link: Link) -> dict[str, Any]:
+    return {
+        "name": link.name or None,
+        "path": link.path,
+        "source": link.source or None,
+        "target": link.target or None,
+        "scope": "inter-agent" if link.scope == "system" else "inter-subsystem",
+        **_where(link.location),
+    }
+
+
+def _datatype(datatype: DataType) -> dict[str, Any]:
+    return {
+        "name": datatype.name,
+        "qualified_name": datatype.qualified_name,
+        "kind": datatype.kind,
+        "primitive": datatype.primitive or None,
+        "fields": [{"name": f.name, "type": f.type or None, "multiplicity": _multiplicity(f.lower, f.upper)}
+                   for f in datatype.fields],
+        "literals": list(datatype.literals),
+        **_where(datatype.location),
+    }

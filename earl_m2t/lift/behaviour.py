@@ -1,0 +1,377 @@
+"""Lifting a subsystem block's behaviour: FSM (stm), basic behaviours and their stages (act),
+partial transition functions, primitive predicates and exclusions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import networkx as nx
+
+from earl_m2t.lift.recognise import Recogniser, suffix_of
+from earl_m2t.lift.replication import has_placeholder
+from earl_m2t.model.elements import (
+    Access,
+    ActivityProblem,
+    BasicBehaviour,
+    Buffer,
+    Condition,
+    Exclusion,
+    Fsm,
+    Memory,
+    PartialFunction,
+    PrimitivePredicate,
+    State,
+    Transition,
+)
+from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+
+PREDICATE_LANGUAGES = frozenset({"", "earl", "earl-predicate", "predicate"})
+BEHAVIOUR_TYPES = ("OpaqueBehavior", "FunctionBehavior", "Activity", "StateMachine", "Interaction")
+CONTROL_NODES = frozenset(
+    {"InitialNode", "ActivityFinalNode", "FlowFinalNode", "ForkNode", "JoinNode", "MergeNode", "DecisionNode"}
+)
+ACTION_TYPES = frozenset({"CallBehaviorAction", "OpaqueAction", "CallOperationAction"})
+PIN_FEATURES = ("argument", "result", "inputValue", "outputValue")
+MEMORY_ACCESS_SUFFIXES = {"m": "", "mi": "read", "mo": "write"}
+CONDITION_NAMES = {"tc": "tc", "terminalcondition": "tc", "ec": "ec", "errorcondition": "ec"}
+
+
+@dataclass
+class BehaviourContext:
+    """What the behaviour lifter needs of the subsystem instance it works for."""
+
+    raw: RawModel
+    recogniser: Recogniser
+    path: str  # the subsystem instance path
+    inputs: tuple[Buffer, ...]
+    outputs: tuple[Buffer, ...]
+    memory: tuple[Memory, ...]
+    sibling_names: frozenset[str]  # names/templates of the other subsystems of the agent
+
+
+def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: str) -> Condition | None:
+    """The predicate text of a Constraint (or an expression / opaque behaviour) in the EARL language."""
+    if constraint is None:
+        return None
+    spec = constraint
+    if raw.uml_type(constraint) == "Constraint":
+        specs = raw.children(constraint, "specification")
+        if not specs:
+            ref = raw.ref(constraint, "specification")
+            specs = [ref] if ref is not None and not isinstance(ref, ExternalRef) else []
+        if not specs:
+            return Condition("", "", raw.location(constraint), owner, role)
+        spec = specs[0]
+    bodies = raw.opaque_bodies(spec)
+    if not bodies and spec.get("value") is not None:  # a LiteralBoolean / LiteralString guard
+        bodies = [("", spec.get("value") or "")]
+    if not bodies:
+        return Condition("", "", raw.location(spec), owner, role)
+    language, body = next(((lang, b) for lang, b in bodies if lang.strip().lower() in PREDICATE_LANGUAGES), bodies[0])
+    return Condition(body.strip(), language, raw.location(spec), owner, role)
+
+
+class BehaviourLifter:
+    def __init__(self, ctx: BehaviourContext) -> None:
+        self.ctx = ctx
+        self.raw = ctx.raw
+
+    # -- owned behaviours of the block -------------------------------------------------------
+    def owned_behaviours(self, block: Element) -> list[tuple[Element, str]]:
+        """(behaviour, concept) for every owned behaviour recognised as an EARL concept."""
+        found = []
+        for beh in self.raw.children(block, "ownedBehavior"):
+            recognition = self.ctx.recogniser.recognise(beh)
+            found.append((beh, recognition.concept))
+        return found
+
+    def functions(self, block: Element) -> tuple[PartialFunction, ...]:
+        result = []
+        for beh, concept in self.owned_behaviours(block):
+            if concept != "PartialTransitionFunction":
+                continue
+            name = self.raw.name(beh)
+            bodies = self.raw.opaque_bodies(beh)
+            language, body = bodies[0] if bodies else ("", "")
+            accesses = tuple(self._access(p) for p in self.raw.children(beh, "ownedParameter") if p.get("direction") != "return")
+            result.append(
+                PartialFunction(name, f"{self.ctx.path}.{name}", accesses, language, body,
+                                self.raw.location(beh), self.ctx.recogniser.recognise(beh).route)
+            )
+        return tuple(result)
+
+    def _access(self, param: Element) -> Access:
+        direction = param.get("direction") or "in"
+        name = self.raw.name(param).strip()
+        mode = {"in": "read", "out": "write", "inout": "readwrite"}.get(direction, "read")
+        foreign = ""
+        local = name
+        if "." in name:
+            qualifier, _, local = name.rpartition(".")
+            if qualifier not in ("", "self") and qualifier != self.ctx.path.rpartition(".")[2]:
+                foreign = qualifier
+        targets = () if foreign else self.resolve_storage(local)
+        if not foreign and not targets and self._names_foreign(local):
+            foreign = "another subsystem"
+        return Access(name, mode, targets, foreign, self.raw.location(param))
+
+    def resolve_storage(self, name: str) -> tuple[str, ...]:
+        """Paths of the buffers or memory a pf parameter or predicate names (templates name all instances)."""
+        stem, _, abbr = name.rpartition("/") if "/" in name else (name, "", "")
+        buffers = self.ctx.inputs + self.ctx.outputs
+        if abbr in ("ib", "ob", ""):
+            hits = tuple(b.path for b in buffers if name in (b.name, b.template) or (not abbr and stem in (_stem(b.name), _stem(b.template))))
+            if hits:
+                return hits
+        if abbr in MEMORY_ACCESS_SUFFIXES or not abbr:
+            return tuple(
+                m.path for m in self.ctx.memory if stem in (_stem(m.name), _stem(m.template)) or name in (m.name, m.template)
+            )
+        return ()
+
+    def _names_foreign(self, name: str) -> bool:
+        return any(name.startswith(sibling + ".") for sibling in self.ctx.sibling_names)
+
+    def predicates(self, block: Element) -> tuple[PrimitivePredicate, ...]:
+        result = []
+        candidates = [(b, c) for b, c in self.owned_behaviours(block)]
+        candidates += [(r, self.ctx.recogniser.recognise(r).concept) for r in self.raw.children(block, "ownedRule")]
+        for el, concept in candidates:
+            if concept != "PrimitivePredicate":
+                continue
+            name = self.raw.name(el)
+            path = f"{self.ctx.path}.{name}"
+            if self.raw.uml_type(el) == "Constraint":
+                fun = condition_of(self.raw, el, path, "fun")
+                language, body = (fun.language, fun.text) if fun else ("", "")
+            else:
+                bodies = self.raw.opaque_bodies(el)
+                language, body = next(
+                    ((lang, b) for lang, b in bodies if lang.strip().lower() in PREDICATE_LANGUAGES),
+                    bodies[0] if bodies else ("", ""),
+                )
+                fun = Condition(body.strip(), language, self.raw.location(el), path, "fun")
+            if fun is not None and language.strip().lower() not in PREDICATE_LANGUAGES:
+                fun = None  # user code in another language (C++): generated as a stub to implement
+            result.append(
+                PrimitivePredicate(name, path, fun, language, body, self.raw.location(el),
+                                   self.ctx.recogniser.recognise(el).route)
+            )
+        return tuple(result)
+
+    def exclusions(self, block: Element) -> tuple[Exclusion, ...]:
+        result = []
+        for rule in self.raw.children(block, "ownedRule"):
+            concept = self.ctx.recogniser.recognise(rule).concept
+            names: list[str] = []
+            if concept == "Exclusion":
+                names = [self.raw.name(t) for t in self.raw.refs(rule, "constrainedElement") if not isinstance(t, ExternalRef)]
+            if not names:
+                cond = condition_of(self.raw, rule, self.ctx.path, "exclusion")
+                names = parse_exclusive(cond.text) if cond is not None else []
+            if len(names) >= 2:
+                result.append(Exclusion(self.raw.name(rule), tuple(names), self.raw.location(rule)))
+        return tuple(result)
+
+    # -- the state machine -----------------------------------------------------------------
+    def state_machines(self, block: Element) -> list[Element]:
+        machines = [b for b in self.raw.children(block, "ownedBehavior") if self.raw.uml_type(b) == "StateMachine"]
+        preferred = self.raw.ref(block, "classifierBehavior")
+        if isinstance(preferred, ExternalRef) or preferred is None or preferred not in machines:
+            return machines
+        return [preferred] + [m for m in machines if m is not preferred]
+
+    def fsm(self, machine: Element) -> tuple[Fsm, list[BasicBehaviour]]:
+        raw = self.raw
+        fsm_path = f"{self.ctx.path}.fsm"
+        regions = raw.children(machine, "region")
+        vertices: dict[int, tuple[str, Element]] = {}
+        initial_pseudostates: list[Element] = []
+        for region in regions:
+            for vertex in raw.children(region, "subvertex"):
+                vtype = raw.uml_type(vertex)
+                if vtype == "Pseudostate" and (vertex.get("kind") or "initial") == "initial":
+                    initial_pseudostates.append(vertex)
+                elif vtype in ("State", ""):
+                    vertices[id(vertex)] = (raw.name(vertex), vertex)
+        states = []
+        behaviours: list[BasicBehaviour] = []
+        for name, vertex in vertices.values():
+            bbs = self._state_behaviours(vertex, name)
+            behaviours.extend(bbs)
+            states.append(State(name, f"{fsm_path}.{name}", tuple(b.name for b in bbs), raw.location(vertex)))
+        initial_ids = {id(p) for p in initial_pseudostates}
+        initial_states: list[str] = []
+        left_initials: set[int] = set()
+        transitions = []
+        order = 0
+        for region in regions:
+            for tr in raw.children(region, "transition"):
+                source = raw.ref(tr, "source")
+                target = raw.ref(tr, "target")
+                if source is not None and not isinstance(source, ExternalRef) and id(source) in initial_ids:
+                    left_initials.add(id(source))
+                    if target is not None and not isinstance(target, ExternalRef) and id(target) in vertices:
+                        initial_states.append(vertices[id(target)][0])
+                    else:
+                        initial_states.append("")
+                    continue
+                transitions.append(self._transition(tr, source, target, vertices, fsm_path, order))
+                order += 1
+        # an initial pseudostate that leads nowhere still counts as a (broken) initial state
+        initial_states.extend("" for p in initial_pseudostates if id(p) not in left_initials)
+        fsm = Fsm(raw.name(machine) or "fsm", fsm_path, tuple(states), tuple(transitions),
+                  tuple(initial_states), raw.location(machine))
+        return fsm, behaviours
+
+    def _transition(self, tr: Element, source, target, vertices, fsm_path: str, order: int) -> Transition:
+        raw = self.raw
+
+        def end(vertex) -> tuple[str, bool]:
+            if vertex is None or isinstance(vertex, ExternalRef):
+                return "", True
+            if id(vertex) in vertices:
+                return vertices[id(vertex)][0], False
+            return raw.name(vertex), True
+
+        src, src_foreign = end(source)
+        dst, dst_foreign = end(target)
+        name = raw.name(tr) or f"{src},{dst}/t"
+        path = f"{fsm_path}.{name}"
+        guard = raw.ref(tr, "guard")
+        if guard is None or isinstance(guard, ExternalRef):
+            inline = raw.children(tr, "guard")
+            guard = inline[0] if inline else None
+        condition = condition_of(raw, guard, path, "ic")
+        priority = 0
+        tags = self.ctx.recogniser.tags(tr)
+        if "priority" in tags:
+            try:
+                priority = int(tags["priority"])
+            except ValueError:
+                priority = 0
+        return Transition(name, path, src, dst, src_foreign, dst_foreign, condition, priority, order, raw.location(tr))
+
+    def _state_behaviours(self, state: Element, state_name: str) -> list[BasicBehaviour]:
+        found = []
+        for activity in self.raw.children(state, "doActivity"):
+            target = self._called_basic_behaviour(activity) or activity
+            found.append(self.basic_behaviour(target, state_name))
+        return found
+
+    def _called_basic_behaviour(self, activity: Element) -> Element | None:
+        """A doActivity that only calls a shared basic-behaviour activity owned by the block."""
+        actions = [n for n in self.raw.children(activity, "node") if self.raw.uml_type(n) in ACTION_TYPES]
+        if len(actions) != 1:
+            return None
+        called = self.raw.ref(actions[0], "behavior")
+        if called is None or isinstance(called, ExternalRef):
+            return None
+        if self.ctx.recogniser.recognise(called).concept == "BasicBehaviour":
+            return called
+        return None
+
+    # -- basic behaviour and transition-function stages ----------------------------------------
+    def basic_behaviour(self, activity: Element, state_name: str) -> BasicBehaviour:
+        raw = self.raw
+        name = raw.name(activity) or f"{state_name}/bb"
+        path = f"{self.ctx.path}.{name}"
+        rules: dict[str, Element] = {}
+        for feature in ("ownedRule", "postcondition", "precondition"):
+            for owned in raw.children(activity, feature):
+                role = CONDITION_NAMES.get(raw.name(owned).strip().lower().replace(" ", ""))
+                if role and role not in rules:
+                    rules[role] = owned
+        tc = condition_of(raw, rules.get("tc"), path, "tc")
+        ec = condition_of(raw, rules.get("ec"), path, "ec")
+        stages, problems = self.stages(activity)
+        return BasicBehaviour(name, path, tc, ec, stages, tuple(problems), raw.location(activity),
+                              self.ctx.recogniser.recognise(activity).route or "position")
+
+    def stages(self, activity: Element) -> tuple[tuple[tuple[str, ...], ...], list[ActivityProblem]]:
+        """Split the pf calls of a tf activity into stages: an action's stage is its depth in the flow."""
+        raw = self.raw
+        problems: list[ActivityProblem] = []
+        nodes = [n for n in raw.children(activity, "node")]
+        if not nodes:
+            return (), problems
+        graph = nx.DiGraph()
+        owner_of: dict[int, Element] = {}
+        kinds: dict[int, str] = {}
+        for node in nodes:
+            kinds[id(node)] = raw.uml_type(node)
+            graph.add_node(id(node))
+            for feature in PIN_FEATURES:
+                for pin in raw.children(node, feature):
+                    owner_of[id(pin)] = node
+        for edge in raw.children(activity, "edge"):
+            source, target = raw.ref(edge, "source"), raw.ref(edge, "target")
+            if source is None or target is None or isinstance(source, ExternalRef) or isinstance(target, ExternalRef):
+                problems.append(ActivityProblem("a flow without a source or a target", raw.location(edge)))
+                continue
+            source = owner_of.get(id(source), source)
+            target = owner_of.get(id(target), target)
+            if id(source) in kinds and id(target) in kinds:
+                graph.add_edge(id(source), id(target))
+        forks = sum(1 for k in kinds.values() if k == "ForkNode")
+        joins = sum(1 for k in kinds.values() if k == "JoinNode")
+        if forks != joins:
+            problems.append(ActivityProblem(f"unbalanced fork/join ({forks} fork, {joins} join)", raw.location(activity)))
+        if not nx.is_directed_acyclic_graph(graph):
+            problems.append(ActivityProblem("the control flow has a cycle", raw.location(activity)))
+            return (), problems
+        actions: dict[int, str] = {}
+        for node in nodes:
+            if kinds[id(node)] not in ACTION_TYPES:
+                if kinds[id(node)] not in CONTROL_NODES:
+                    problems.append(ActivityProblem(f"unsupported activity node {kinds[id(node)] or node.tag}", raw.location(node)))
+                continue
+            pf = self._called_function(node)
+            if pf is None:
+                problems.append(ActivityProblem(
+                    f"action '{raw.name(node)}' calls no partial transition function of this subsystem", raw.location(node)))
+                continue
+            actions[id(node)] = pf
+        initials = [n for n, k in kinds.items() if k == "InitialNode"]
+        if actions and len(initials) != 1:
+            problems.append(ActivityProblem(f"expected one initial node, found {len(initials)}", raw.location(activity)))
+        elif initials:
+            reachable = nx.descendants(graph, initials[0])
+            for node in nodes:
+                if id(node) in actions and id(node) not in reachable:
+                    problems.append(ActivityProblem(f"action '{raw.name(node)}' is not reachable from the initial node", raw.location(node)))
+        depth: dict[int, int] = {}
+        for node_id in nx.topological_sort(graph):
+            before = [depth[p] + (1 if p in actions else 0) for p in graph.predecessors(node_id)]
+            depth[node_id] = max(before, default=0)
+        by_stage: dict[int, list[str]] = {}
+        for node in nodes:  # model order inside a stage
+            if id(node) in actions:
+                by_stage.setdefault(depth[id(node)], []).append(actions[id(node)])
+        return tuple(tuple(by_stage[d]) for d in sorted(by_stage)), problems
+
+    def _called_function(self, action: Element) -> str | None:
+        called = self.raw.ref(action, "behavior")
+        if called is not None and not isinstance(called, ExternalRef):
+            name = self.raw.name(called)
+            if self.ctx.recogniser.recognise(called).concept == "PartialTransitionFunction" or suffix_of(name) == "pf":
+                return name
+            return None
+        name = self.raw.name(action)
+        return name if suffix_of(name) == "pf" else None
+
+
+def _stem(name: str) -> str:
+    return name.rpartition("/")[0] if "/" in name else name
+
+
+def parse_exclusive(text: str) -> list[str]:
+    """``exclusive(a/pp, b/pp)`` → ``['a/pp', 'b/pp']``; anything else → ``[]``."""
+    text = text.strip()
+    if not (text.lower().startswith("exclusive(") and text.endswith(")")):
+        return []
+    inner = text[len("exclusive(") : -1]
+    return [part.strip().removesuffix(".fun") for part in inner.split(",") if part.strip()]
+
+
+__all__ = ["BehaviourContext", "BehaviourLifter", "condition_of", "parse_exclusive", "has_placeholder"]

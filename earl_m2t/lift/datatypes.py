@@ -1,0 +1,98 @@
+"""DataTypes: primitive (recognised by name), enumerations and composite, nested types."""
+
+from __future__ import annotations
+
+import tomllib
+from functools import cache
+
+from earl_m2t.lift.replication import multiplicity
+from earl_m2t.model.elements import DataType, Field
+from earl_m2t.model.location import Location
+from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+from earl_m2t.resources import metamodel_path
+
+BUILTIN = Location("<builtin>")
+_STRUCT_TYPES = ("DataType", "Class", "Signal", "InterfaceBlock")
+
+
+@cache
+def primitive_names() -> dict[str, str]:
+    """Map every known primitive type name to its kind (boolean, integer, real, string)."""
+    table = tomllib.loads(metamodel_path("tables", "primitive-types.toml").read_text("utf-8"))
+    return {name: kind for kind, row in table.items() for name in row["names"]}
+
+
+def primitive_kind(name: str) -> str:
+    names = primitive_names()
+    if name in names:
+        return names[name]
+    for sep in ("#", "-", ".", "_"):
+        tail = name.rpartition(sep)[2]
+        if tail in names:
+            return names[tail]
+    tail = name.removesuffix("_PackageableElement").rpartition("-")[2]
+    return names.get(tail, "")
+
+
+class DataTypeLifter:
+    """Lifts type references on demand, memoised, into ``datatypes`` keyed by qualified name."""
+
+    def __init__(self, raw: RawModel) -> None:
+        self.raw = raw
+        self.datatypes: dict[str, DataType] = {}
+        self._keys: dict[int, str] = {}
+
+    def type_of(self, typed: Element) -> tuple[str, str]:
+        """(datatype key, unresolved reference text) for a typed element (property, port, parameter)."""
+        ref = self.raw.ref(typed, "type")
+        if ref is None:
+            return "", ""
+        if isinstance(ref, ExternalRef):
+            kind = primitive_kind(ref.fragment)
+            if kind:
+                return self._builtin(ref.fragment, kind), ""
+            return "", ref.href
+        return self.lift(ref), ""
+
+    def _builtin(self, name: str, kind: str) -> str:
+        canonical = {"boolean": "Boolean", "integer": "Integer", "real": "Real", "string": "String"}[kind]
+        if canonical not in self.datatypes:
+            self.datatypes[canonical] = DataType(canonical, canonical, "primitive", kind, location=BUILTIN)
+        return canonical
+
+    def lift(self, el: Element) -> str:
+        key = self._keys.get(id(el))
+        if key is not None:
+            return key
+        raw = self.raw
+        uml_type = raw.uml_type(el)
+        name = raw.name(el)
+        qualified = self._qualified_name(el)
+        self._keys[id(el)] = qualified  # set first: recursive types must terminate (D002 finds them)
+        location = raw.location(el)
+        if uml_type == "PrimitiveType":
+            kind = primitive_kind(name) or "real"
+            self.datatypes[qualified] = DataType(name, qualified, "primitive", kind, location=location)
+        elif uml_type == "Enumeration":
+            literals = tuple(raw.name(lit) for lit in raw.children(el, "ownedLiteral"))
+            self.datatypes[qualified] = DataType(name, qualified, "enumeration", literals=literals, location=location)
+        elif uml_type in _STRUCT_TYPES and primitive_kind(name) and not raw.children(el, "ownedAttribute"):
+            self.datatypes[qualified] = DataType(name, qualified, "primitive", primitive_kind(name), location=location)
+        else:
+            fields = []
+            for attr in raw.children(el, "ownedAttribute"):
+                if raw.uml_type(attr) not in ("Property", ""):
+                    continue
+                type_key, unresolved = self.type_of(attr)
+                lower, upper = multiplicity(raw, attr)
+                fields.append(Field(raw.name(attr), type_key, lower, upper, raw.location(attr), unresolved))
+            self.datatypes[qualified] = DataType(name, qualified, "struct", fields=tuple(fields), location=location)
+        return qualified
+
+    def _qualified_name(self, el: Element) -> str:
+        names = [self.raw.name(el) or self.raw.xmi_id(el)]
+        owner = self.raw.owner(el)
+        while owner is not None and self.raw.uml_type(owner) not in ("Model", ""):
+            names.append(self.raw.name(owner))
+            owner = self.raw.owner(owner)
+        return "::".join(reversed(names))

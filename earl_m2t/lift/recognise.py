@@ -1,0 +1,135 @@
+"""Which EARL concept an element stands for: stereotype, then generalisation, then name suffix.
+
+The concepts, their abbreviations and their specialisation come from ``profiles/earl.sysml``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from earl_m2t.profile import Profile
+from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+
+# Package names that hold the EARL *Model* blocks a user model specialises (paper Fig. 1).
+MODEL_PACKAGE_NAMES = frozenset({"model", "earl", "earl model", "earlmodel", "earl::model"})
+
+
+def _key(name: str) -> str:
+    """Match stereotype names as tools write them (EA: ``Input_Buffer``, lower case)."""
+    return name.replace("_", "").replace(" ", "").lower()
+
+
+@dataclass(frozen=True, slots=True)
+class Recognition:
+    concept: str  # concept name from the profile, "" when not recognised
+    route: str  # "stereotype" | "generalisation" | "suffix" | ""
+    conflict: str  # a description of disagreeing evidence, "" when none
+
+
+NOT_RECOGNISED = Recognition("", "", "")
+
+
+class Recogniser:
+    """Recognises EARL concepts on raw XMI elements, caching per element id."""
+
+    def __init__(self, raw: RawModel, profile: Profile) -> None:
+        self.raw = raw
+        self.profile = profile
+        self._by_key = {_key(name): name for name in profile.concepts}
+        self._cache: dict[int, Recognition] = {}
+
+    # -- the three routes --------------------------------------------------------------------
+    def by_stereotype(self, el: Element) -> tuple[str, dict[str, str]]:
+        for app in self.raw.applied(el):
+            if self.raw.table.is_earl(app.profile_uri):
+                concept = self._by_key.get(_key(app.name))
+                if concept:
+                    return concept, app.tags
+        return "", {}
+
+    def tags(self, el: Element) -> dict[str, str]:
+        return self.by_stereotype(el)[1]
+
+    def by_generalisation(self, el: Element) -> str:
+        seen: set[int] = set()
+        frontier = [el]
+        while frontier:
+            current = frontier.pop()
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            for gen in self.raw.children(current, "generalization"):
+                general = self.raw.ref(gen, "general")
+                if general is None:
+                    continue
+                if isinstance(general, ExternalRef):
+                    concept = self._by_key.get(_key(general.fragment))
+                    if concept:
+                        return concept
+                    continue
+                concept = self._model_block_concept(general)
+                if concept:
+                    return concept
+                frontier.append(general)
+        return ""
+
+    def _model_block_concept(self, el: Element) -> str:
+        concept = self._by_key.get(_key(self.raw.name(el)))
+        if not concept:
+            return ""
+        owner = self.raw.owner(el)
+        while owner is not None:
+            if self.raw.name(owner).strip().lower() in MODEL_PACKAGE_NAMES:
+                return concept
+            owner = self.raw.owner(owner)
+        return ""
+
+    def by_suffix(self, *names: str) -> str:
+        for name in names:
+            abbr = suffix_of(name)
+            if abbr:
+                concept = self.profile.by_abbreviation(abbr)
+                if concept is not None:
+                    return concept.name
+        return ""
+
+    # -- combined ----------------------------------------------------------------------------
+    def recognise(self, el: Element, *extra_names: str) -> Recognition:
+        """Recognise an element; ``extra_names`` are other names it goes by (a part's name)."""
+        cached = self._cache.get(id(el)) if not extra_names else None
+        if cached is not None:
+            return cached
+        stereotype, _ = self.by_stereotype(el)
+        general = self.by_generalisation(el) if self.raw.uml_type(el) == "Class" else ""
+        suffix = self.by_suffix(self.raw.name(el), *extra_names)
+        found = [(c, r) for c, r in ((stereotype, "stereotype"), (general, "generalisation"), (suffix, "suffix")) if c]
+        if not found:
+            result = NOT_RECOGNISED
+        else:
+            concept, route = found[0]
+            disagreeing = [
+                f"{r} says {c}" for c, r in found[1:] if not self._compatible(concept, c)
+            ]
+            conflict = f"{route} says {concept} but " + ", ".join(disagreeing) if disagreeing else ""
+            result = Recognition(concept, route, conflict)
+        if not extra_names:
+            self._cache[id(el)] = result
+        return result
+
+    def _compatible(self, a: str, b: str) -> bool:
+        return self.profile.is_a(a, b) or self.profile.is_a(b, a)
+
+    def is_a(self, concept: str, ancestor: str) -> bool:
+        return bool(concept) and self.profile.is_a(concept, ancestor)
+
+    def abbreviation(self, concept: str) -> str:
+        found = self.profile.concepts.get(concept)
+        return (found.abbreviation or "") if found is not None else ""
+
+
+def suffix_of(name: str) -> str:
+    """The abbreviation a name ends with: ``manip/a`` → ``a``; a bare ``cs`` → ``cs``."""
+    name = name.strip()
+    if "/" in name:
+        return name.rpartition("/")[2].strip()
+    return name if name in ("cs",) else ""

@@ -1,0 +1,72 @@
+"""Replicated instances: ``motorControllerK/ve`` with multiplicity [6] stands for six instances."""
+
+from __future__ import annotations
+
+from earl_m2t.read.xmi import Element, RawModel
+
+PLACEHOLDER = "K"
+
+
+def multiplicity(raw: RawModel, el: Element) -> tuple[int, int | None]:
+    """(lower, upper) of a multiplicity element; upper None is ``*``. UML defaults to 1..1."""
+    lower_el = next(iter(raw.children(el, "lowerValue")), None)
+    upper_el = next(iter(raw.children(el, "upperValue")), None)
+    lower = _literal(lower_el, default=1, missing_value=0)
+    upper = _literal(upper_el, default=1, missing_value=0)
+    if lower is None:
+        lower = 0
+    return lower, upper
+
+
+def _literal(el: Element | None, default: int, missing_value: int) -> int | None:
+    if el is None:
+        return default
+    value = el.get("value")
+    if value is None:
+        return missing_value
+    value = value.strip()
+    if value in ("*", "-1"):
+        return None
+    try:
+        return int(value)
+    except ValueError:
+        return default
+
+
+def instance_count(lower: int, upper: int | None) -> int:
+    """How many instances a multiplicity stands for: N when fixed (lower = upper = N), else 1."""
+    if upper is not None and lower == upper and upper > 1:
+        return upper
+    return 1
+
+
+def has_placeholder(name: str) -> bool:
+    stem = name.rpartition("/")[0] if "/" in name else name
+    return stem.endswith(PLACEHOLDER)
+
+
+def instance_name(template: str, index: int) -> str:
+    """``motorControllerK/ve``, 3 → ``motorController3/ve``; without K the index is appended."""
+    if "/" in template:
+        stem, _, suffix = template.rpartition("/")
+        tail = "/" + suffix
+    else:
+        stem, tail = template, ""
+    if stem.endswith(PLACEHOLDER):
+        stem = stem[: -len(PLACEHOLDER)]
+    return f"{stem}{index}{tail}"
+
+
+def expand(template: str, count: int) -> list[tuple[str, int]]:
+    """The (name, index) of each instance; index 0 marks a single, unreplicated element."""
+    if count <= 1:
+        return [(template, 0)]
+    return [(instance_name(template, k), k) for k in range(1, count + 1)]
+
+
+def substitute_link_name(template: str, index: int) -> str:
+    """Substitute the index into each replicated part of a link name ``cs,motorControllerK/ve``."""
+    if index == 0:
+        return template
+    parts = [instance_name(p, index) if has_placeholder(p) else p for p in template.split(",")]
+    return ",".join(parts)

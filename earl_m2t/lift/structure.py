@@ -1,0 +1,369 @@
+"""Lifting the structure (bdd/ibd): system, robots, agents, subsystems, buffers, memory, links."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from earl_m2t.diagnostics import Diagnostic, Severity
+from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
+from earl_m2t.lift.datatypes import DataTypeLifter
+from earl_m2t.lift.recognise import Recogniser
+from earl_m2t.lift.replication import expand, instance_count, multiplicity, substitute_link_name
+from earl_m2t.model.elements import Agent, Buffer, Link, Memory, Robot, Subsystem, System
+from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+
+AGENT_TYPE_ORDER = "CERT"
+
+
+def computed_agent_type(has_e: bool, has_r: bool, has_t: bool) -> str:
+    """Paper Table 2: C always, E with effectors, R with receptors, T with inter-agent links."""
+    return "C" + ("E" if has_e else "") + ("R" if has_r else "") + ("T" if has_t else "")
+
+
+@dataclass
+class _SubsystemInstance:
+    """A lifted subsystem plus the raw part/port elements links are resolved against."""
+
+    subsystem: Subsystem
+    part: Element
+    ports: dict[int, list[Buffer]]  # id(port element) -> buffer instances
+
+
+@dataclass
+class _AgentInstance:
+    agent: Agent
+    part: Element
+    block: Element
+    subsystems: list[_SubsystemInstance]
+
+
+class StructureLifter:
+    def __init__(self, raw: RawModel, recogniser: Recogniser, types: DataTypeLifter) -> None:
+        self.raw = raw
+        self.recogniser = recogniser
+        self.types = types
+        self.diagnostics: list[Diagnostic] = []
+        self.recognised_anything = False
+        self._outputs: set[str] = set()  # paths of every Output Buffer lifted so far
+        self._agent_instances: list[_AgentInstance] = []
+
+    # -- helpers -----------------------------------------------------------------------------
+    def _note(self, code: str, severity: Severity, message: str, el: Element, element: str = "") -> None:
+        self.diagnostics.append(Diagnostic(code, severity, message, self.raw.location(el), element))
+
+    def _recognise(self, el: Element, *names: str, path: str = ""):
+        recognition = self.recogniser.recognise(el, *names)
+        if recognition.concept:
+            self.recognised_anything = True
+        if recognition.conflict:
+            self._note("R001", Severity.WARNING, f"conflicting EARL evidence: {recognition.conflict}", el, path)
+        return recognition
+
+    def _parts(self, block: Element) -> list[tuple[Element, Element]]:
+        """(part property, its block type) for every typed part of a block."""
+        parts = []
+        for attr in self.raw.children(block, "ownedAttribute"):
+            if self.raw.uml_type(attr) != "Property":
+                continue
+            part_type = self.raw.ref(attr, "type")
+            if part_type is None or isinstance(part_type, ExternalRef):
+                continue
+            if self.raw.uml_type(part_type) == "Class":
+                parts.append((attr, part_type))
+        return parts
+
+    def _part_concept(self, part: Element, block: Element, path: str = "") -> tuple[str, str]:
+        by_block = self._recognise(block, path=path)
+        if by_block.concept:
+            by_part = self.recogniser.by_suffix(self.raw.name(part))
+            if by_part and not self.recogniser._compatible(by_block.concept, by_part):
+                self._note("R001", Severity.WARNING,
+                           f"conflicting EARL evidence: block {self.raw.name(block)} is {by_block.concept} but the part name says {by_part}",
+                           part, path)
+            return by_block.concept, by_block.route
+        by_part = self.recogniser.by_suffix(self.raw.name(part))
+        if by_part:
+            self.recognised_anything = True
+        return by_part, ("suffix" if by_part else "")
+
+    # -- systems -----------------------------------------------------------------------------
+    def systems(self) -> list[System]:
+        classes = [el for el in self._all_classes()]
+        system_blocks = [c for c in classes if self._recognise(c).concept == "System"]
+        if not system_blocks:
+            system_blocks = self._implicit_systems(classes)
+        return [self._system(block) for block in system_blocks]
+
+    def _all_classes(self) -> list[Element]:
+        found = []
+        for top in self.raw.model_roots:
+            for el in self.raw.iter_owned(top):
+                if self.raw.uml_type(el) == "Class" and self.raw.feature(el) in ("packagedElement", "nestedClassifier"):
+                    found.append(el)
+        return found
+
+    def _implicit_systems(self, classes: list[Element]) -> list[Element]:
+        """Top-level blocks whose parts are robots or agents, when no block is declared a System."""
+        used_as_part = {id(t) for c in classes for _, t in self._parts(c)}
+        systems = []
+        for block in classes:
+            if id(block) in used_as_part:
+                continue
+            concepts = {self._part_concept(p, t)[0] for p, t in self._parts(block)}
+            if concepts & {"Robot", "Agent"}:
+                systems.append(block)
+        return systems
+
+    def _system(self, block: Element) -> System:
+        name = self.raw.name(block)
+        recognition = self.recogniser.recognise(block)
+        robots: list[Robot] = []
+        agents: list[_AgentInstance] = []
+        for part, part_type in self._parts(block):
+            concept, _ = self._part_concept(part, part_type, name)
+            if concept == "Robot":
+                robot_agents = []
+                for robot_part_name, _ in self._instances(part):
+                    robot_path = robot_part_name
+                    for agent_part, agent_block in self._parts(part_type):
+                        if self._part_concept(agent_part, agent_block, robot_path)[0] == "Agent":
+                            for inst in self._agents(agent_part, agent_block, robot_path):
+                                agents.append(inst)
+                                robot_agents.append(inst.agent.path)
+                    robots.append(Robot(robot_part_name, robot_path, self.raw.name(part_type), tuple(robot_agents),
+                                        self.raw.location(part), self.recogniser.recognise(part_type).route or "suffix"))
+            elif concept == "Agent":
+                agents.extend(self._agents(part, part_type, ""))
+        links = self._system_links(block, name, agents)
+        linked_agents = {l.source.split(".", 1)[0] for l in links if l.source} | {
+            l.target.split(".", 1)[0] for l in links if l.target
+        }
+        final_agents = []
+        for inst in agents:
+            agent = inst.agent
+            has_t = agent.path in linked_agents
+            has_e = bool(agent.ve) and bool(agent.re)
+            has_r = bool(agent.vr) and bool(agent.rr)
+            final_agents.append(_replace_agent(agent, computed_agent_type(has_e, has_r, has_t)))
+        return System(name, name, tuple(robots), tuple(final_agents), tuple(links), self.raw.location(block),
+                      recognition.route or "structure")
+
+    def _instances(self, part: Element) -> list[tuple[str, int]]:
+        lower, upper = multiplicity(self.raw, part)
+        return expand(self.raw.name(part), instance_count(lower, upper))
+
+    # -- agents ------------------------------------------------------------------------------
+    def _agents(self, part: Element, block: Element, robot: str) -> list[_AgentInstance]:
+        result = []
+        for agent_name, _ in self._instances(part):
+            result.append(self._agent(agent_name, part, block, robot))
+        self._agent_instances.extend(result)
+        return result
+
+    def _agent(self, name: str, part: Element, block: Element, robot: str) -> _AgentInstance:
+        path = name
+        subsystem_parts = []
+        for sub_part, sub_block in self._parts(block):
+            concept, route = self._part_concept(sub_part, sub_block, path)
+            kind = self.recogniser.abbreviation(concept) if self.recogniser.is_a(concept, "Subsystem") else ""
+            if kind:
+                subsystem_parts.append((sub_part, sub_block, kind, route))
+        sibling_names = frozenset(self.raw.name(p) for p, _, _, _ in subsystem_parts)
+        instances: list[_SubsystemInstance] = []
+        for sub_part, sub_block, kind, route in subsystem_parts:
+            for sub_name, index in self._instances(sub_part):
+                instances.append(self._subsystem(sub_part, sub_block, kind, route, path, sub_name, index,
+                                                 sibling_names - {self.raw.name(sub_part)}))
+        links = self._agent_links(block, path, instances)
+        tags = self.recogniser.tags(block)
+        declared = (tags.get("declaredType") or tags.get("type") or "").strip()
+        agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
+                      declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix")
+        return _AgentInstance(agent, part, block, instances)
+
+    # -- subsystems --------------------------------------------------------------------------
+    def _subsystem(self, part: Element, block: Element, kind: str, route: str, agent_path: str,
+                   name: str, index: int, siblings: frozenset[str]) -> _SubsystemInstance:
+        raw = self.raw
+        path = f"{agent_path}.{name}"
+        inputs: list[Buffer] = []
+        outputs: list[Buffer] = []
+        memory: list[Memory] = []
+        ports: dict[int, list[Buffer]] = {}
+        for attr in raw.children(block, "ownedAttribute") + raw.children(block, "ownedPort"):
+            attr_type = raw.uml_type(attr)
+            attr_name = raw.name(attr)
+            recognition = self._recognise(attr, path=f"{path}.{attr_name}")
+            concept = recognition.concept
+            if attr_type == "Port" or concept in ("InputBuffer", "OutputBuffer"):
+                if concept not in ("InputBuffer", "OutputBuffer"):
+                    continue
+                direction = "in" if concept == "InputBuffer" else "out"
+                datatype, unresolved = self.types.type_of(attr)
+                lower, upper = multiplicity(raw, attr)
+                buffers = [
+                    Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
+                           recognition.route, unresolved)
+                    for inst, k in expand(attr_name, instance_count(lower, upper))
+                ]
+                ports[id(attr)] = buffers
+                if direction == "out":
+                    self._outputs.update(b.path for b in buffers)
+                (inputs if direction == "in" else outputs).extend(buffers)
+            elif concept == "InternalMemory":
+                datatype, unresolved = self.types.type_of(attr)
+                lower, upper = multiplicity(raw, attr)
+                memory.extend(
+                    Memory(inst, f"{path}.{inst}", datatype, attr_name, k, raw.location(attr), recognition.route, unresolved)
+                    for inst, k in expand(attr_name, instance_count(lower, upper))
+                )
+        ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory), siblings)
+        lifter = BehaviourLifter(ctx)
+        machines = lifter.state_machines(block)
+        fsm = None
+        behaviours = []
+        if machines:
+            fsm, behaviours = lifter.fsm(machines[0])
+        shared = [b for b, concept in lifter.owned_behaviours(block) if concept == "BasicBehaviour"]
+        known = {b.name for b in behaviours}
+        for activity in shared:
+            if raw.name(activity) not in known:
+                behaviours.append(lifter.basic_behaviour(activity, raw.name(activity)))
+                known.add(raw.name(activity))
+        unique = []
+        seen: set[str] = set()
+        for bb in behaviours:
+            if bb.name not in seen:
+                seen.add(bb.name)
+                unique.append(bb)
+        subsystem = Subsystem(
+            name, path, kind, agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,
+            tuple(inputs), tuple(outputs), tuple(memory), fsm, tuple(unique), lifter.functions(block),
+            lifter.predicates(block), lifter.exclusions(block), len(machines), raw.location(part), route,
+        )
+        return _SubsystemInstance(subsystem, part, ports)
+
+    # -- links -------------------------------------------------------------------------------
+    def _end_buffers(self, end: Element, parts: dict[int, list[_SubsystemInstance]]) -> list[str] | None:
+        """Buffer paths one connector end stands for; None when it is not a subsystem buffer."""
+        role = self.raw.ref(end, "role")
+        part = self.raw.ref(end, "partWithPort")
+        if role is None or isinstance(role, ExternalRef) or part is None or isinstance(part, ExternalRef):
+            return None
+        instances = parts.get(id(part))
+        if not instances:
+            return None
+        found: list[str] = []
+        for inst in instances:
+            buffers = inst.ports.get(id(role))
+            if buffers is None:
+                return None
+            found.extend(b.path for b in buffers)
+        return found
+
+    def _agent_links(self, block: Element, agent_path: str, instances: list[_SubsystemInstance]) -> list[Link]:
+        parts: dict[int, list[_SubsystemInstance]] = {}
+        for inst in instances:
+            parts.setdefault(id(inst.part), []).append(inst)
+        links = []
+        for connector in self.raw.children(block, "ownedConnector"):
+            ends = [self._end_buffers(e, parts) for e in self.raw.children(connector, "end")]
+            links.extend(self._links(connector, ends, "agent", agent_path, f"{agent_path}."))
+        return links
+
+    def _system_links(self, block: Element, system: str, agents: list[_AgentInstance]) -> list[Link]:
+        links = []
+        for connector in self.raw.children(block, "ownedConnector"):
+            ends = [self._nested_end_buffers(e, agents) for e in self.raw.children(connector, "end")]
+            links.extend(self._links(connector, ends, "system", system, ""))
+        return links
+
+    def _nested_end_buffers(self, end: Element, agents: list[_AgentInstance]) -> list[str] | None:
+        """Resolve an end with a SysML NestedConnectorEnd propertyPath (robot part, agent part, …)."""
+        path_ids: list[str] = []
+        for app in self.raw.applied(end):
+            if app.name == "NestedConnectorEnd" and "propertyPath" in app.tags:
+                path_ids = app.tags["propertyPath"].split()
+        path_parts = [self.raw.by_id.get(i) for i in path_ids]
+        agent_parts = [p for p in path_parts if p is not None and any(a.part is p for a in agents)]
+        if not agent_parts:
+            return None
+        candidates = [a for a in agents if a.part is agent_parts[-1]]
+        robot_parts = [p for p in path_parts if p is not None and p is not agent_parts[-1]]
+        if robot_parts:
+            robot_names = {self.raw.name(p) for p in robot_parts}
+            candidates = [a for a in candidates if not a.agent.robot or a.agent.robot in robot_names
+                          or any(a.agent.robot.startswith(_stem_index(r)) for r in robot_names)]
+        found: list[str] = []
+        for agent in candidates:
+            parts: dict[int, list[_SubsystemInstance]] = {}
+            for inst in agent.subsystems:
+                parts.setdefault(id(inst.part), []).append(inst)
+            buffers = self._end_buffers(end, parts)
+            if buffers is None:
+                return None
+            found.extend(buffers)
+        return found or None
+
+    def _links(self, connector: Element, ends: list[list[str] | None], scope: str, owner: str, prefix: str) -> list[Link]:
+        raw = self.raw
+        name = raw.name(connector)
+        location = raw.location(connector)
+        if len(ends) != 2 or ends[0] is None or ends[1] is None:
+            if self._looks_like_link(connector):
+                self._note("C001", Severity.ERROR,
+                           f"connector '{name or raw.xmi_id(connector)}' does not connect two subsystem buffers",
+                           connector, f"{owner}.{name}" if name else owner)
+            return []
+        first, second = ends
+        if len(first) == len(second):
+            pairs = list(zip(first, second))
+            replicated = len(first) > 1
+        elif len(first) == 1 or len(second) == 1:
+            pairs = [(a, b) for a in first for b in second]
+            replicated = len(pairs) > 1
+        else:
+            self._note("C001", Severity.ERROR,
+                       f"connector '{name}' joins {len(first)} and {len(second)} replicated buffers: cannot pair them",
+                       connector, f"{owner}.{name}")
+            return []
+        links = []
+        for k, (a, b) in enumerate(pairs, start=1):
+            a_out, b_out = self._is_output(a), self._is_output(b)
+            if a_out and not b_out:
+                source, target = a, b
+            elif b_out and not a_out:
+                source, target = b, a
+            else:
+                source, target = "", ""  # two outputs or two inputs: rule C001
+            instance = substitute_link_name(name, k if replicated else 0) if name else ""
+            display = instance or f"{_subsystem_name(source or a, prefix)},{_subsystem_name(target or b, prefix)}"
+            links.append(Link(instance, f"{owner}.{display}" if scope == "agent" else display, (a, b),
+                              source, target, scope, owner, name, location))
+        return links
+
+    def _is_output(self, buffer_path: str) -> bool:
+        return buffer_path in self._outputs
+
+    def _looks_like_link(self, connector: Element) -> bool:
+        return bool(self.recogniser.recognise(connector).concept) or any(
+            self.raw.uml_type(self.raw.ref(e, "role")) == "Port"
+            for e in self.raw.children(connector, "end")
+            if isinstance(self.raw.ref(e, "role"), type(connector))
+        )
+
+
+def _subsystem_name(buffer_path: str, prefix: str) -> str:
+    """``manip/a.cs.x/ob`` → ``cs`` (inside an agent) or ``manip/a`` (between agents)."""
+    parts = buffer_path.split(".")
+    return parts[1] if prefix else parts[0]
+
+
+def _stem_index(name: str) -> str:
+    return name.rpartition("/")[0].rstrip("K") if "/" in name else name
+
+
+def _replace_agent(agent: Agent, computed: str) -> Agent:
+    from dataclasses import replace
+
+    return replace(agent, computed_type=computed)

@@ -1,0 +1,392 @@
+"""The typed, immutable EARL model that every stage after lifting works on.
+
+Elements refer to each other by *element path* (``manip/a.cs.manipulatorCommand/ib``), the
+same string diagnostics and ``show`` print, so the model stays a tree of frozen values;
+:class:`EarlModel` resolves paths.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Iterator
+
+from earl_m2t.model.location import Location
+
+SUBSYSTEM_KINDS = ("cs", "ve", "re", "vr", "rr")
+
+
+@dataclass(frozen=True, slots=True)
+class Field:
+    """A field of a composite dataType; ``upper`` None means unbounded (``*``)."""
+
+    name: str
+    type: str  # key into EarlModel.datatypes, or "" when unresolved
+    lower: int
+    upper: int | None
+    location: Location
+    type_ref: str = ""  # the reference as written when it did not resolve (rule D001)
+
+    @property
+    def is_array(self) -> bool:
+        return self.upper is None or self.upper > 1
+
+    @property
+    def is_fixed_array(self) -> bool:
+        return self.upper is not None and self.upper > 1 and self.lower == self.upper
+
+
+@dataclass(frozen=True, slots=True)
+class DataType:
+    """A primitive, enumeration or composite (possibly nested) dataType."""
+
+    name: str
+    qualified_name: str
+    kind: str  # "primitive" | "enumeration" | "struct"
+    primitive: str = ""  # "boolean" | "integer" | "real" | "string" for primitives
+    fields: tuple[Field, ...] = ()
+    literals: tuple[str, ...] = ()
+    location: Location = field(default_factory=lambda: Location("<builtin>"))
+
+    def field_named(self, name: str) -> Field | None:
+        return next((f for f in self.fields if f.name == name), None)
+
+
+@dataclass(frozen=True, slots=True)
+class Condition:
+    """A predicate as written in the model (``text``) and where it was written."""
+
+    text: str
+    language: str
+    location: Location
+    owner: str  # path of the element owning it (transition, behaviour, predicate)
+    role: str  # "ic" | "tc" | "ec" | "fun"
+
+
+@dataclass(frozen=True, slots=True)
+class Buffer:
+    name: str
+    path: str
+    direction: str  # "in" (Input Buffer) | "out" (Output Buffer)
+    datatype: str  # key into EarlModel.datatypes, "" when untyped or unresolved
+    template: str  # name before replicated expansion (``motorControllerStateK/ib``)
+    index: int  # 1..N for replicated instances, 0 otherwise
+    location: Location
+    recognised_by: str
+    type_ref: str = ""  # the type reference as written when it did not resolve (rule D001)
+
+    @property
+    def abbreviation(self) -> str:
+        return "ib" if self.direction == "in" else "ob"
+
+
+@dataclass(frozen=True, slots=True)
+class Memory:
+    name: str
+    path: str
+    datatype: str
+    template: str
+    index: int
+    location: Location
+    recognised_by: str
+    type_ref: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class PrimitivePredicate:
+    name: str
+    path: str
+    fun: Condition | None  # None when the body is user code in another language
+    language: str
+    body: str
+    location: Location
+    recognised_by: str
+
+
+@dataclass(frozen=True, slots=True)
+class Exclusion:
+    """Primitive predicates the model declares mutually exclusive (paper Table 6 note)."""
+
+    name: str
+    predicates: tuple[str, ...]  # names of primitive predicates
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class Access:
+    """A pf's declared access to a buffer or memory: the parameter as written, and what it resolved to."""
+
+    name: str
+    mode: str  # "read" | "write" | "readwrite"
+    targets: tuple[str, ...]  # paths of buffers/memory of its subsystem
+    foreign: str  # path of a subsystem it names that is not its own, else ""
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class PartialFunction:
+    name: str
+    path: str
+    accesses: tuple[Access, ...]
+    language: str
+    body: str
+    location: Location
+    recognised_by: str
+
+    @property
+    def reads(self) -> tuple[str, ...]:
+        return tuple(t for a in self.accesses if a.mode != "write" for t in a.targets)
+
+    @property
+    def writes(self) -> tuple[str, ...]:
+        return tuple(t for a in self.accesses if a.mode != "read" for t in a.targets)
+
+
+@dataclass(frozen=True, slots=True)
+class ActivityProblem:
+    """Why a transition function's activity could not be staged (rule T005)."""
+
+    message: str
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class BasicBehaviour:
+    name: str
+    path: str
+    tc: Condition | None
+    ec: Condition | None
+    stages: tuple[tuple[str, ...], ...]  # pf names per stage, stage 1 first
+    activity_problems: tuple[ActivityProblem, ...]
+    location: Location
+    recognised_by: str
+
+    @property
+    def functions(self) -> tuple[str, ...]:
+        return tuple(pf for stage in self.stages for pf in stage)
+
+
+@dataclass(frozen=True, slots=True)
+class State:
+    name: str
+    path: str
+    behaviours: tuple[str, ...]  # bb names; exactly one is expected (B002)
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class Transition:
+    name: str
+    path: str
+    source: str  # state name, or "" when not a state of this FSM
+    target: str
+    source_foreign: bool  # source/target lie outside this FSM (B003)
+    target_foreign: bool
+    condition: Condition | None
+    priority: int
+    order: int  # position in the model, which breaks priority ties
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class Fsm:
+    name: str
+    path: str
+    states: tuple[State, ...]
+    transitions: tuple[Transition, ...]
+    initial_states: tuple[str, ...]  # targets of the initial pseudostates
+    location: Location
+
+    @property
+    def initial(self) -> str | None:
+        return self.initial_states[0] if len(self.initial_states) == 1 else None
+
+    def state(self, name: str) -> State | None:
+        return next((s for s in self.states if s.name == name), None)
+
+
+@dataclass(frozen=True, slots=True)
+class Subsystem:
+    name: str
+    path: str
+    kind: str  # one of SUBSYSTEM_KINDS
+    agent: str
+    block: str  # name of the block that defines it
+    block_id: str
+    template: str
+    index: int
+    inputs: tuple[Buffer, ...]
+    outputs: tuple[Buffer, ...]
+    memory: tuple[Memory, ...]
+    fsm: Fsm | None
+    behaviours: tuple[BasicBehaviour, ...]
+    functions: tuple[PartialFunction, ...]
+    predicates: tuple[PrimitivePredicate, ...]
+    exclusions: tuple[Exclusion, ...]
+    fsm_count: int
+    location: Location
+    recognised_by: str
+
+    @property
+    def buffers(self) -> tuple[Buffer, ...]:
+        return self.inputs + self.outputs
+
+    def behaviour(self, name: str) -> BasicBehaviour | None:
+        return next((b for b in self.behaviours if b.name == name), None)
+
+    def function(self, name: str) -> PartialFunction | None:
+        return next((f for f in self.functions if f.name == name), None)
+
+    def predicate(self, name: str) -> PrimitivePredicate | None:
+        return next((p for p in self.predicates if p.name == name), None)
+
+    # the paper's part names, for the rule language (``self.ib``, ``self.ob``, ``self.m``)
+    @property
+    def ib(self) -> tuple[Buffer, ...]:
+        return self.inputs
+
+    @property
+    def ob(self) -> tuple[Buffer, ...]:
+        return self.outputs
+
+    @property
+    def m(self) -> tuple[Memory, ...]:
+        return self.memory
+
+
+@dataclass(frozen=True, slots=True)
+class Link:
+    """A communication link from an Output Buffer to an Input Buffer."""
+
+    name: str
+    path: str
+    ends: tuple[str, str]  # buffer paths in model order ("" for an end that is not a buffer)
+    source: str  # the Output Buffer end, "" when none or both
+    target: str  # the Input Buffer end, "" when none or both
+    scope: str  # "agent" (inter-subsystem) | "system" (inter-agent)
+    owner: str  # agent path for inter-subsystem links, system name otherwise
+    template: str
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class Agent:
+    name: str
+    path: str
+    block: str
+    robot: str  # robot path, "" for agents directly in the system
+    subsystems: tuple[Subsystem, ...]
+    links: tuple[Link, ...]  # inter-subsystem links
+    declared_type: str
+    computed_type: str
+    location: Location
+    recognised_by: str
+
+    def of_kind(self, kind: str) -> tuple[Subsystem, ...]:
+        return tuple(s for s in self.subsystems if s.kind == kind)
+
+    @property
+    def cs(self) -> tuple[Subsystem, ...]:
+        return self.of_kind("cs")
+
+    @property
+    def ve(self) -> tuple[Subsystem, ...]:
+        return self.of_kind("ve")
+
+    @property
+    def re(self) -> tuple[Subsystem, ...]:
+        return self.of_kind("re")
+
+    @property
+    def vr(self) -> tuple[Subsystem, ...]:
+        return self.of_kind("vr")
+
+    @property
+    def rr(self) -> tuple[Subsystem, ...]:
+        return self.of_kind("rr")
+
+
+@dataclass(frozen=True, slots=True)
+class Robot:
+    name: str
+    path: str
+    block: str
+    agents: tuple[str, ...]  # agent paths
+    location: Location
+    recognised_by: str
+
+
+@dataclass(frozen=True, slots=True)
+class System:
+    name: str
+    path: str
+    robots: tuple[Robot, ...]
+    agents: tuple[Agent, ...]  # every agent, inside robots or not
+    links: tuple[Link, ...]  # inter-agent links
+    location: Location
+    recognised_by: str
+
+
+@dataclass(frozen=True)
+class EarlModel:
+    """The lifted model of one file."""
+
+    file: str
+    dialect: str
+    name: str
+    systems: tuple[System, ...]
+    datatypes: dict[str, DataType]  # by qualified name
+    # facts about recognition kept for rules (e.g. blocks that look like EARL but sit nowhere)
+    has_earl_content: bool = True
+
+    @property
+    def system(self) -> System | None:
+        return self.systems[0] if self.systems else None
+
+    @property
+    def agents(self) -> tuple[Agent, ...]:
+        return tuple(a for s in self.systems for a in s.agents)
+
+    @property
+    def robots(self) -> tuple[Robot, ...]:
+        return tuple(r for s in self.systems for r in s.robots)
+
+    @property
+    def subsystems(self) -> tuple[Subsystem, ...]:
+        return tuple(sub for a in self.agents for sub in a.subsystems)
+
+    @property
+    def links(self) -> tuple[Link, ...]:
+        return tuple(l for a in self.agents for l in a.links) + tuple(
+            l for s in self.systems for l in s.links
+        )
+
+    @cached_property
+    def _buffers(self) -> dict[str, Buffer]:
+        return {b.path: b for s in self.subsystems for b in s.buffers}
+
+    @cached_property
+    def _subsystems(self) -> dict[str, Subsystem]:
+        return {s.path: s for s in self.subsystems}
+
+    def buffer(self, path: str) -> Buffer | None:
+        return self._buffers.get(path)
+
+    def subsystem(self, path: str) -> Subsystem | None:
+        return self._subsystems.get(path)
+
+    def subsystem_of(self, buffer_path: str) -> Subsystem | None:
+        buf = self._buffers.get(buffer_path)
+        if buf is None:
+            return None
+        return self._subsystems.get(buf.path.rpartition(".")[0]) or next(
+            (s for s in self.subsystems if buf in s.buffers), None
+        )
+
+    def definitions(self) -> Iterator[Subsystem]:
+        """One subsystem per defining block: replicated instances share their behaviour."""
+        seen: set[str] = set()
+        for sub in self.subsystems:
+            if sub.block_id not in seen:
+                seen.add(sub.block_id)
+                yield sub

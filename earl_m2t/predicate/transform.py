@@ -1,0 +1,220 @@
+"""Tree rewrites: index substitution, expansion of replications, n-ary joins."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from typing import Literal
+
+from earl_m2t.predicate.ast import (
+    And,
+    Compare,
+    Const,
+    Expr,
+    FieldRef,
+    NewData,
+    Node,
+    Not,
+    Number,
+    Or,
+    PredicateRef,
+    Replicated,
+    children,
+    split_name,
+)
+from earl_m2t.predicate.errors import PredicateSyntaxError, where
+
+
+def map_children(node: Node, fn: Callable[[Node], Node]) -> Node:
+    """Return ``node`` with ``fn`` applied to each of its direct sub-nodes."""
+    if isinstance(node, Not):
+        return replace(node, operand=fn(node.operand))
+    if isinstance(node, (And, Or)):
+        return replace(node, operands=tuple(fn(o) for o in node.operands))
+    if isinstance(node, NewData):
+        return replace(node, ref=fn(node.ref))
+    if isinstance(node, Compare):
+        return replace(node, left=fn(node.left), right=fn(node.right))
+    if isinstance(node, Replicated):
+        return replace(node, template=fn(node.template))
+    return node
+
+
+def join(op: Literal["and", "or"], operands: list[Expr] | tuple[Expr, ...], *,
+         line: int = 1, column: int = 1) -> Expr:
+    """Join operands by ``op``, flattening nested chains of the same operator.
+
+    No operand gives the neutral element (``TRUE`` for and, ``FALSE`` for or); a single
+    operand is returned as is.
+    """
+    if len(operands) == 1:
+        return operands[0]
+    kind = And if op == "and" else Or
+    flat: list[Expr] = []
+    for operand in operands:
+        if isinstance(operand, kind):
+            flat.extend(operand.operands)
+        else:
+            flat.append(operand)
+    if not flat:
+        return Const(op == "and", line=line, column=column)
+    return kind(tuple(flat), line=line, column=column)
+
+
+def index_name(name: str, var: str, value: int | str) -> str:
+    """Put ``value`` in place of the index placeholder ``var`` of a name.
+
+    Only the end of the descriptive name, before the ``/abbr`` suffix, is an index
+    position: ``index_name("motorControllerStateK/ib", "K", 3)`` is
+    ``"motorControllerState3/ib"``; ``"Kinematics/ib"`` and a name that is just ``K``
+    stay as they are.
+    """
+    base, suffix = split_name(name)
+    if len(base) > len(var) and base.endswith(var):
+        base = base[: -len(var)] + str(value)
+    return base if suffix is None else f"{base}/{suffix}"
+
+
+def is_indexed(name: str, var: str) -> bool:
+    """True when ``name`` carries the placeholder ``var`` in its index position."""
+    return index_name(name, var, "") != name
+
+
+def substitute_index(expr: Expr, var: str, value: int | str) -> Expr:
+    """Replace the index placeholder ``var`` by ``value`` in every head name of ``expr``.
+
+    A nested :class:`Replicated` over the same ``var`` binds it anew and is left alone.
+    """
+
+    def visit(node: Node) -> Node:
+        if isinstance(node, PredicateRef):
+            return replace(node, name=index_name(node.name, var, value))
+        if isinstance(node, FieldRef):
+            return replace(node, head=index_name(node.head, var, value))
+        if isinstance(node, Replicated) and node.var == var:
+            return node
+        return map_children(node, visit)
+
+    return visit(expr)  # type: ignore[return-value]
+
+
+def expand_replicated(expr: Expr, count_for: Callable[[Replicated], int | None]) -> Expr:
+    """Replace each :class:`Replicated` by the And / Or of its template over ``var`` = 1..N.
+
+    ``count_for`` gives N for a replication (the multiplicity of the replicated
+    instances); None leaves that node, template included, as it is. N = 0 gives the
+    neutral element (``FALSE`` for or, ``TRUE`` for and), N = 1 the single instance.
+    Chains are flattened again: ``x ∨ a1 ∨ … ∨ aN`` with N = 2 becomes ``x ∨ a1 ∨ a2``.
+    """
+
+    def visit(node: Node) -> Node:
+        if isinstance(node, Replicated):
+            count = count_for(node)
+            if count is None:
+                return node
+            if count < 0:
+                raise ValueError(f"negative replication count {count}")
+            copies = [visit(substitute_index(node.template, node.var, k))
+                      for k in range(1, count + 1)]
+            return join(node.op, copies,  # type: ignore[arg-type]
+                        line=node.line, column=node.column)
+        node = map_children(node, visit)
+        if isinstance(node, And):
+            return join("and", node.operands, line=node.line, column=node.column)
+        if isinstance(node, Or):
+            return join("or", node.operands, line=node.line, column=node.column)
+        return node
+
+    return visit(expr)  # type: ignore[return-value]
+
+
+def replication_template(first: Expr, last: Expr, *, var: str = "K", last_index: str = "N",
+                         line: int = 1, column: int = 1) -> Expr:
+    """The template of the replication form ``first ∨ … ∨ last``.
+
+    ``first`` must name the replicated instances with index 1 and ``last`` with index
+    ``last_index`` (N), and be otherwise identical; the template carries ``var`` in their
+    place. ``line`` and ``column`` locate the ellipsis, for the error when no name is
+    indexed. Raises :class:`PredicateSyntaxError` at the first difference.
+    """
+    unifier = _Unifier(var, last_index)
+    template = unifier.unify(first, last)
+    if not unifier.indexed:
+        raise PredicateSyntaxError(
+            f"no replicated name around '…' at {where(line, column)}: write the operand "
+            f"before it with index 1 and the one after it with index {last_index} "
+            f"(e.g. 'motor1/ib ∨ … ∨ motor{last_index}/ib')",
+            line,
+            column,
+        )
+    return template
+
+
+class _Unifier:
+    """Walks the first and the last operand of a replication side by side."""
+
+    def __init__(self, var: str, last_index: str) -> None:
+        self.var = var
+        self.last_index = last_index
+        self.indexed = False
+
+    def unify(self, a: Node, b: Node) -> Node:
+        if type(a) is not type(b):
+            raise self._mismatch(a, b)
+        if isinstance(a, PredicateRef):
+            return replace(a, name=self._name(a, a.name, b, b.name))  # type: ignore[union-attr]
+        if isinstance(a, FieldRef):
+            assert isinstance(b, FieldRef)
+            if (a.member, a.path) != (b.member, b.path):
+                raise self._mismatch(a, b)
+            return replace(a, head=self._name(a, a.head, b, b.head))
+        if isinstance(a, (Const, Number)):
+            if a != b:
+                raise self._mismatch(a, b)
+            return a
+        if isinstance(a, (And, Or)):
+            assert isinstance(b, (And, Or))
+            if len(a.operands) != len(b.operands):
+                raise self._mismatch(a, b)
+        elif isinstance(a, Compare):
+            assert isinstance(b, Compare)
+            if a.op != b.op:
+                raise self._mismatch(a, b)
+        elif isinstance(a, Replicated):
+            assert isinstance(b, Replicated)
+            if (a.op, a.var) != (b.op, b.var):
+                raise self._mismatch(a, b)
+        pairs = iter(children(b))
+        return map_children(a, lambda child: self.unify(child, next(pairs)))
+
+    def _name(self, a: Node, first: str, b: Node, last: str) -> str:
+        if first == last:
+            return first
+        (base1, suffix1), (base_n, suffix_n) = split_name(first), split_name(last)
+        if suffix1 == suffix_n and len(base1) > 1 and len(base_n) > len(self.last_index):
+            stem1, stem_n = base1[:-1], base_n[: -len(self.last_index)]
+            ends1, ends_n = base1.endswith("1"), base_n.endswith(self.last_index)
+            if ends1 and ends_n and stem1 == stem_n:
+                self.indexed = True
+                name = stem1 + self.var
+                return name if suffix1 is None else f"{name}/{suffix1}"
+            if ends_n and not ends1 and base1[:-1] == stem_n:
+                raise _error(a, f"the operand before '…' must use index 1, found '{first}'")
+            if ends1 and not ends_n and base_n[:-1] == stem1:
+                raise _error(b, f"the operand after '…' must use index {self.last_index}, "
+                                f"found '{last}'")
+        raise self._mismatch(a, b)
+
+    def _mismatch(self, a: Node, b: Node) -> PredicateSyntaxError:
+        from earl_m2t.predicate.printer import format_node
+
+        return _error(
+            b,
+            f"'{format_node(b)}' after '…' does not repeat '{format_node(a)}' before it "
+            f"(only the index may change, from 1 to {self.last_index})",
+        )
+
+
+def _error(node: Node, message: str) -> PredicateSyntaxError:
+    return PredicateSyntaxError(f"{message} at {where(node.line, node.column)}",
+                                node.line, node.column)

@@ -1,0 +1,61 @@
+"""The one hardened XML parser: no entity expansion, no network, no DTD loading."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lxml import etree
+
+from earl_m2t.diagnostics import ModelReadError
+
+
+def _parser() -> etree.XMLParser:
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=True,  # real XMI files exceed libxml2's default depth and text limits
+        remove_comments=True,
+        remove_pis=True,
+        collect_ids=False,
+    )
+
+
+def parse_xml_bytes(data: bytes, file: str) -> etree._ElementTree:
+    """Parse XML bytes safely; any DTD is refused, since XMI never needs one."""
+    try:
+        root = etree.fromstring(data, _parser())
+    except etree.XMLSyntaxError as exc:
+        line = exc.position[0] if exc.position else 0
+        raise ModelReadError(file, f"not well-formed XML: {_short(exc.msg)}", line) from None
+    tree = root.getroottree()
+    _refuse_doctype(tree, file)
+    return tree
+
+
+def parse_xml_file(path: Path) -> etree._ElementTree:
+    """Parse an XML file safely (the bytes go to lxml, so the declared encoding is honoured)."""
+    file = str(path)
+    try:
+        tree = etree.parse(file, _parser())
+    except OSError as exc:
+        raise ModelReadError(file, f"cannot read file: {exc.strerror or exc}") from None
+    except etree.XMLSyntaxError as exc:
+        line = exc.position[0] if exc.position else 0
+        raise ModelReadError(file, f"not well-formed XML: {_short(exc.msg)}", line) from None
+    _refuse_doctype(tree, file)
+    return tree
+
+
+def _refuse_doctype(tree: etree._ElementTree, file: str) -> None:
+    docinfo = tree.docinfo
+    if docinfo.doctype or docinfo.internalDTD is not None or docinfo.externalDTD is not None:
+        raise ModelReadError(
+            file, "document type declarations (DTD, entities) are not allowed in XMI files", 1
+        )
+
+
+def _short(message: str | None) -> str:
+    text = (message or "syntax error").strip().splitlines()[0]
+    return text[:200]

@@ -1,0 +1,250 @@
+"""Parse SysML v2 text with the textX grammar ``metamodel/grammar/sysml2.tx``.
+
+The parse tree is made of textX objects whose classes are named after the grammar rules
+(``Package``, ``Definition``, ``Usage``, ``MetadataUsage``...). The helpers below turn its
+raw pieces (quoted names, string literals, comment bodies, multiplicities, literal
+expressions) into plain Python values, so callers never handle textX details.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+from arpeggio import StrMatch
+from textx import get_location, metamodel_from_file
+from textx.exceptions import TextXError, TextXSyntaxError
+
+from earl_m2t.resources import metamodel_path
+
+__all__ = [
+    "Sysml2SyntaxError",
+    "parse_file",
+    "parse_text",
+    "location",
+    "name_segments",
+    "simple_name",
+    "unquote_name",
+    "identification",
+    "doc_text",
+    "multiplicity",
+    "literal_value",
+    "members",
+    "rule",
+]
+
+GRAMMAR = ("grammar", "sysml2.tx")
+
+# One segment of a qualified name: a quoted name or a basic name.
+_SEGMENT = re.compile(r"'(?:[^'\\]|\\.)*'|[A-Za-z_][A-Za-z_0-9]*")
+_ESCAPE = re.compile(r"\\(.)")
+_MAX_EXPECTED = 16
+_ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "b": "\b", "f": "\f"}
+
+
+class Sysml2SyntaxError(Exception):
+    """SysML v2 text that does not parse; ``str()`` is ``file:line:col: message``."""
+
+    def __init__(self, file: str, line: int, column: int, message: str) -> None:
+        self.file = file
+        self.line = line
+        self.column = column
+        self.message = message
+        super().__init__(f"{file}:{line}:{column}: {message}")
+
+
+@cache
+def _metamodel() -> Any:
+    return metamodel_from_file(str(metamodel_path(*GRAMMAR)), autokwd=True)
+
+
+def parse_text(text: str, file_name: str = "<text>") -> Any:
+    """Parse SysML v2 text and return the root namespace (rule ``RootNamespace``)."""
+    try:
+        return _metamodel().model_from_str(text, file_name=file_name)
+    except TextXSyntaxError as error:
+        raise Sysml2SyntaxError(
+            file_name, error.line or 0, error.col or 0, _syntax_message(error, text)
+        ) from None
+    except TextXError as error:
+        raise Sysml2SyntaxError(
+            file_name, error.line or 0, error.col or 0, str(error.message)
+        ) from None
+
+
+def parse_file(path: Path) -> Any:
+    """Parse a SysML v2 file (UTF-8) and return its root namespace."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise Sysml2SyntaxError(str(path), 0, 0, f"cannot read the file: {error}") from None
+    return parse_text(text, str(path))
+
+
+def _syntax_message(error: TextXSyntaxError, text: str) -> str:
+    expected: list[str] = []
+    for candidate in getattr(error, "expected_rules", None) or []:
+        if isinstance(candidate, StrMatch):
+            label = f"'{candidate.to_match}'"
+        else:
+            label = getattr(candidate, "rule_name", "") or str(candidate)
+            if label.islower():  # a keyword (matched as a whole word)
+                label = f"'{label}'"
+        if label and label not in expected:
+            expected.append(label)
+    found = _found(text, error.line or 0, error.col or 0)
+    if not expected:
+        return f"syntax error at {found}"
+    shown = ", ".join(expected[:_MAX_EXPECTED])
+    more = ", ..." if len(expected) > _MAX_EXPECTED else ""
+    return f"syntax error at {found}: expected {shown}{more}"
+
+
+def _found(text: str, line: int, column: int) -> str:
+    lines = text.splitlines()
+    if not 1 <= line <= len(lines):
+        return "end of file"
+    rest = lines[line - 1][max(column - 1, 0) :].strip()
+    if not rest:
+        return "end of line"
+    token = re.match(r"[A-Za-z_0-9]+|'[^']*'?|\S", rest)
+    return f"'{token.group(0) if token else rest[:1]}'"
+
+
+def location(obj: Any) -> tuple[int, int]:
+    """Return the 1-based (line, column) where a parsed element starts."""
+    where = get_location(obj)
+    return int(where.get("line") or 0), int(where.get("col") or 0)
+
+
+# ---------------------------------------------------------------- names and values
+
+
+def unquote_name(raw: str) -> str:
+    """Return the name a basic or quoted (``'x y'``) name denotes."""
+    if len(raw) >= 2 and raw[0] == "'" and raw[-1] == "'":
+        return _unescape(raw[1:-1])
+    return raw
+
+
+def name_segments(raw: str) -> tuple[str, ...]:
+    """Split a qualified name ``A::'b c'::D`` into its unquoted segments."""
+    return tuple(unquote_name(segment) for segment in _SEGMENT.findall(raw))
+
+
+def simple_name(raw: str) -> str:
+    """The last segment of a qualified name, unquoted."""
+    segments = name_segments(raw)
+    return segments[-1] if segments else raw
+
+
+def identification(element: Any) -> tuple[str | None, str | None]:
+    """Return ``(short_name, name)`` of an element declared with ``<short> name``."""
+    ident = getattr(element, "ident", None)
+    if ident is None:
+        declaration = getattr(element, "declaration", None)
+        ident = getattr(declaration, "ident", None)
+    if ident is None:
+        return None, None
+    short = unquote_name(ident.shortName) if ident.shortName else None
+    name = unquote_name(ident.name) if ident.name else None
+    return short, name
+
+
+def _unescape(text: str) -> str:
+    return _ESCAPE.sub(lambda m: _ESCAPES.get(m.group(1), m.group(1)), text)
+
+
+def doc_text(body: str) -> str:
+    """The text of a ``/* ... */`` comment body: markers and leading ``*`` removed, the
+    lines joined by single spaces."""
+    text = body
+    if text.startswith("/*"):
+        text = text[2:]
+    if text.endswith("*/"):
+        text = text[:-2]
+    lines = []
+    for line in text.splitlines():
+        line = line.strip()
+        if line.startswith("*"):
+            line = line[1:].strip()
+        if line:
+            lines.append(line)
+    return " ".join(lines)
+
+
+def multiplicity(declaration: Any) -> tuple[int, int | None] | None:
+    """``(lower, upper)`` of a usage declaration's multiplicity, ``upper`` None for ``*``;
+    None when the declaration gives no range. ``[n]`` is n..n, ``[*]`` is 0..*.
+
+    Raises ValueError for a bound that is a name rather than a number.
+    """
+    part = getattr(declaration, "multiplicity", None)
+    if part is None or part.range is None:
+        return None
+    lower_raw, upper_raw = part.range.lower, part.range.upper
+    if not upper_raw:
+        if lower_raw == "*":
+            return 0, None
+        bound = _bound(lower_raw)
+        return bound, bound
+    lower = 0 if lower_raw == "*" else _bound(lower_raw)
+    upper = None if upper_raw == "*" else _bound(upper_raw)
+    return lower, upper
+
+
+def _bound(raw: str) -> int:
+    if raw.isdigit():
+        return int(raw)
+    raise ValueError(f"multiplicity bound '{raw}' is not a number")
+
+
+def literal_value(expression: Any) -> object:
+    """The Python value of a literal expression: int, float, str, bool or None.
+
+    A feature reference gives its qualified name as a string (e.g. ``AgentType::C``);
+    ``-``/``+`` apply to numbers.
+    """
+    kind = rule(expression)
+    if kind == "LiteralInteger":
+        return int(expression.value)
+    if kind == "LiteralReal":
+        return float(expression.value)
+    if kind == "LiteralString":
+        return _unescape(expression.value[1:-1])
+    if kind == "LiteralBoolean":
+        return expression.value == "true"
+    if kind == "LiteralNull":
+        return None
+    if kind == "FeatureReference":
+        return "::".join(name_segments(expression.name))
+    if kind == "UnaryExpression":
+        operand = literal_value(expression.operand)
+        if expression.operator == "-" and isinstance(operand, (int, float)):
+            return -operand
+        if expression.operator == "+" and isinstance(operand, (int, float)):
+            return operand
+        if expression.operator == "not" and isinstance(operand, bool):
+            return not operand
+    raise ValueError(f"not a literal value: {rule(expression)}")
+
+
+# ---------------------------------------------------------------- walking
+
+
+def rule(obj: Any) -> str:
+    """The grammar rule an object was parsed by (its textX class name)."""
+    return type(obj).__name__
+
+
+def members(element: Any) -> Iterator[Any]:
+    """The elements owned by a namespace, a definition or a usage, in text order."""
+    if rule(element) == "RootNamespace":
+        yield from element.members
+        return
+    body = getattr(element, "body", None)
+    if body is not None and hasattr(body, "members"):
+        yield from body.members

@@ -1,0 +1,387 @@
+"""Write the reference sample ``samples/pick_and_place/pick_and_place.uml``.
+
+The sample is the pick-and-place system of the EARL paper (Electronics 2020, 9(2), 379,
+Section 3) with N = 6 joints, modelled as Eclipse Papyrus with SysML 1.6 saves it and
+following ``docs/modelling-guide.md``: an EARL stereotype on every EARL element, names with the
+paper's suffixes, Tables 4-7 for the manipulator's control subsystem.
+
+Usage: ``python scripts/make_sample.py [output]``. The output is deterministic: running
+the script twice gives byte-identical files.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from tests.support.papyrus_builder import (  # noqa: E402
+    BOOLEAN,
+    REAL,
+    Block,
+    End,
+    ModelBuilder,
+    OpaqueBehavior,
+    Package,
+    Property,
+)
+
+N_JOINTS = 6
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+
+# Table 6: initial conditions of manip/a.cs transitions and terminal conditions of its behaviours.
+NEW_JOINT = "newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun"
+NEW_OPERATIONAL = "newOperationalPos/pp.fun ∧ ¬emergencyStop/pp.fun"
+NO_EMERGENCY = "¬emergencyStop/pp.fun"
+EMERGENCY = "emergencyStop/pp.fun"
+MOTION_TC = "motionFinished/pp.fun ∨ emergencyStop/pp.fun"
+IDLE_TC = "newJointPos/pp.fun ∨ newOperationalPos/pp.fun ∨ emergencyStop/pp.fun"
+
+
+class DataTypes:
+    """The DataTypes package (paper Figs. 9 and 11)."""
+
+    def __init__(self, pkg: Package) -> None:
+        self.vector3 = pkg.data_type("Vector3")
+        for axis in ("x", "y", "z"):
+            self.vector3.field(axis, REAL)
+        self.quaternion = pkg.data_type("Quaternion")
+        for axis in ("x", "y", "z", "w"):
+            self.quaternion.field(axis, REAL)
+        self.joint_position = pkg.data_type("JointPosition")
+        self.joint_position.field("q", REAL, N_JOINTS)
+        self.oper_position = pkg.data_type("OperPosition")
+        self.oper_position.field("position", self.vector3)
+        self.oper_position.field("orientation", self.quaternion)
+
+        self.manipulator_command = pkg.data_type("ManipulatorCommand")
+        self.manipulator_command.field("jointPosSetpoint", self.joint_position, "0..1")
+        self.manipulator_command.field("operationalPosSetpoint", self.oper_position, "0..1")
+        self.manipulator_command.field("emergencyStopCommand", BOOLEAN)
+        self.manipulator_state = pkg.data_type("ManipulatorState")
+        self.manipulator_state.field("currentJointPos", self.joint_position)
+        self.manipulator_state.field("currentOperationalPos", self.oper_position)
+        self.manipulator_state.field("motionFinished", BOOLEAN)
+        self.manipulator_state.field("emergencyStop", BOOLEAN)
+        self.gripper_command = pkg.data_type("GripperCommand")
+        self.gripper_command.field("desiredFingerPos", REAL)
+        self.gripper_command.field("emergencyStopCommand", BOOLEAN)
+        self.gripper_status = pkg.data_type("GripperStatus")
+        self.gripper_status.field("currentFingerPos", REAL)
+        self.gripper_status.field("motionFinished", BOOLEAN)
+        self.gripper_status.field("emergencyStop", BOOLEAN)
+
+        self.motor_controller_command = pkg.data_type("MotorControllerCommand")
+        self.motor_controller_command.field("desiredWindingCurrent", REAL)
+        self.motor_controller_command.field("emergencyStopCommand", BOOLEAN)
+        self.motor_controller_state = pkg.data_type("MotorControllerState")
+        self.motor_controller_state.field("motorPos", REAL)
+        self.motor_controller_state.field("emergencyStopCommand", BOOLEAN)
+        self.motor_current = pkg.data_type("MotorCurrent")
+        self.motor_current.field("current", REAL)
+        self.encoder_reading = pkg.data_type("EncoderReading")
+        self.encoder_reading.field("position", REAL)
+
+
+def _single_state(block: Block, state: str, pf: OpaqueBehavior) -> None:
+    """An FSM of one initial state whose behaviour runs ``pf`` and never terminates."""
+    fsm = block.state_machine()
+    fsm.state(state, initial=True).do_activity(tc="FALSE", ec="FALSE").stages([[pf]])
+
+
+def motor_controller(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Block:
+    """A Virtual Effector regulating one motor: a PI current regulator on the encoder reading."""
+    ve = pkg.block(name, "VirtualEffector")
+    command = ve.input_buffer("motorControllerCommand/ib", dt.motor_controller_command)
+    state = ve.output_buffer("motorControllerState/ob", dt.motor_controller_state)
+    current = ve.output_buffer("desiredCurrent/ob", dt.motor_current)
+    encoder = ve.input_buffer("encoder/ib", dt.encoder_reading)
+    ve.memory("desiredPosition/m", REAL)
+    integral = ve.memory("integralError/m", REAL)
+    pf = ve.partial_transition_function(
+        pf_name,
+        reads=[command, encoder, integral],
+        writes=[current, state, integral],
+        body="// PI regulator: desired winding current from the position error; reports the motor state.",
+    )
+    _single_state(ve, "regulate", pf)
+    return ve
+
+
+def motor(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Block:
+    """A Real Effector: the driver of one motor with its encoder."""
+    re = pkg.block(name, "RealEffector")
+    current = re.input_buffer("desiredCurrent/ib", dt.motor_current)
+    encoder = re.output_buffer("encoder/ob", dt.encoder_reading)
+    position = re.memory("position/m", REAL)
+    pf = re.partial_transition_function(
+        pf_name,
+        reads=[current, position],
+        writes=[encoder, position],
+        body="// Sets the winding current on the hardware and reads the encoder.",
+    )
+    _single_state(re, "drive", pf)
+    return re
+
+
+def task_control(pkg: Package, dt: DataTypes) -> Block:
+    """task/a.cs: supervises the pick-and-place task."""
+    cs = pkg.block("TaskControl", "ControlSubsystem")
+    manip_cmd = cs.output_buffer("manipulatorCommand/ob", dt.manipulator_command)
+    grip_cmd = cs.output_buffer("gripperCommand/ob", dt.gripper_command)
+    manip_state = cs.input_buffer("manipulatorState/ib", dt.manipulator_state)
+    grip_status = cs.input_buffer("gripperStatus/ib", dt.gripper_status)
+
+    cs.primitive_predicate(
+        "taskAborted/pp", "manipulatorState/ib.msg.emergencyStop ∨ gripperStatus/ib.msg.emergencyStop"
+    )
+    plan = cs.partial_transition_function(
+        "planTask/pf",
+        reads=[manip_state, grip_status],
+        writes=[manip_cmd, grip_cmd],
+        body="// Plans the next pick or place motion and the gripper setpoint.",
+    )
+    hold = cs.partial_transition_function(
+        "holdCommands/pf",
+        writes=[manip_cmd, grip_cmd],
+        body="// Keeps sending the last commands with the emergency stop set.",
+    )
+
+    fsm = cs.state_machine()
+    supervise = fsm.state("supervise", initial=True)
+    abort = fsm.state("abort")
+    fsm.transition(supervise, abort, "taskAborted/pp")
+    supervise.do_activity(tc="taskAborted/pp", ec="FALSE").stages([[plan]])
+    abort.do_activity(tc="FALSE", ec="FALSE").stages([[hold]])
+    return cs
+
+
+def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
+    """manip/a.cs exactly as the paper's Tables 4-7."""
+    cs = pkg.block("ManipulatorControl", "ControlSubsystem")
+    command = cs.input_buffer("manipulatorCommand/ib", dt.manipulator_command)
+    state = cs.output_buffer("manipulatorState/ob", dt.manipulator_state)
+    mc_state = cs.input_buffer("motorControllerStateK/ib", dt.motor_controller_state, N_JOINTS)
+    mc_command = cs.output_buffer("motorControllerCommandK/ob", dt.motor_controller_command, N_JOINTS)
+
+    # Table 4
+    motion_finished = cs.memory("motionFinished/m", BOOLEAN)
+    operational_pos = cs.memory("currentOperationalPos/m", dt.oper_position)
+    joint_pos = cs.memory("currentJointPos/m", dt.joint_position)
+    stop_command = cs.memory("emergencyStopCommandK/m", BOOLEAN, N_JOINTS)
+    winding_current = cs.memory("windingCurrentK/m", REAL, N_JOINTS)
+
+    # Table 5
+    cs.primitive_predicate(
+        "emergencyStop/pp",
+        "manipulatorCommand/ib.msg.emergencyStopCommand ∨ motorControllerState1/ib.msg.emergencyStopCommand"
+        " ∨ … ∨ motorControllerStateN/ib.msg.emergencyStopCommand",
+    )
+    cs.primitive_predicate("motionFinished/pp", "motionFinished/mi.msg")
+    new_joint = cs.primitive_predicate("newJointPos/pp", "newData(manipulatorCommand/ib.msg.jointPosSetpoint)")
+    new_operational = cs.primitive_predicate(
+        "newOperationalPos/pp", "newData(manipulatorCommand/ib.msg.operationalPosSetpoint)"
+    )
+    cs.primitive_predicate("false/pp", "FALSE")
+    # Table 6 note: task/a never sets a joint and an operational setpoint at once.
+    cs.exclusion(
+        "jointOrOperational", [new_joint, new_operational], "exclusive(newJointPos/pp, newOperationalPos/pp)"
+    )
+
+    # Table 7 and Section 3.2
+    calculate = cs.partial_transition_function(
+        "calculatePosition/pf",
+        reads=[mc_state],
+        writes=[joint_pos, operational_pos],
+        body="// Joint positions from the motor positions; end-effector pose by forward kinematics.",
+    )
+    passive = cs.partial_transition_function(
+        "passiveRegulation/pf",
+        reads=[joint_pos],
+        writes=[winding_current],
+        body="// Winding currents that keep the manipulator still.",
+    )
+    joint_move = cs.partial_transition_function(
+        "jointMove/pf",
+        reads=[command, joint_pos],
+        writes=[motion_finished, winding_current],
+        body="// Joint-space trajectory; PI regulator per joint: i = Kp*e + Ki*integral(e), e = desired - current.",
+    )
+    operational_move = cs.partial_transition_function(
+        "operationalMove/pf",
+        reads=[command, operational_pos],
+        writes=[motion_finished, winding_current],
+        body="// Operational-space trajectory and the winding currents that realise it.",
+    )
+    emergency_stop = cs.partial_transition_function(
+        "emergencyStop/pf",
+        reads=[command, mc_state],
+        writes=[stop_command],
+        body="// Copies the emergency stop to every motor controller command.",
+    )
+    output_state = cs.partial_transition_function(
+        "outputManipState/pf",
+        reads=[joint_pos, operational_pos, motion_finished, stop_command],
+        writes=[state],
+        body="// Composes ManipulatorState from the internal memory.",
+    )
+    output_motor = cs.partial_transition_function(
+        "outputMotorCon/pf",
+        reads=[winding_current, stop_command],
+        writes=[mc_command],
+        body="// Composes one MotorControllerCommand per joint.",
+    )
+
+    # Table 6 and Fig. 12
+    fsm = cs.state_machine()
+    idle = fsm.state("idle", initial=True)
+    joint = fsm.state("jointMove")
+    operational = fsm.state("operationalMove")
+    stop = fsm.state("emergencyStop")
+    fsm.transition(idle, joint, NEW_JOINT)
+    fsm.transition(joint, joint, NEW_JOINT, priority=1)
+    fsm.transition(idle, operational, NEW_OPERATIONAL)
+    fsm.transition(operational, operational, NEW_OPERATIONAL, priority=1)
+    fsm.transition(joint, idle, NO_EMERGENCY)
+    fsm.transition(operational, idle, NO_EMERGENCY)
+    for source in (idle, joint, operational):
+        fsm.transition(source, stop, EMERGENCY, priority=2)
+
+    # Table 7 and Fig. 15: stage 1 writes memory, stage 2 the output buffers.
+    for st, tc, pf in (
+        (idle, IDLE_TC, passive),
+        (joint, MOTION_TC, joint_move),
+        (operational, MOTION_TC, operational_move),
+        (stop, "false/pp.fun", emergency_stop),
+    ):
+        st.do_activity(tc=tc, ec="FALSE").stages([[calculate, pf], [output_state, output_motor]])
+    return cs
+
+
+def gripper_control(pkg: Package, dt: DataTypes) -> Block:
+    """grip/a.cs: turns gripper commands into finger motor controller commands."""
+    cs = pkg.block("GripperControl", "ControlSubsystem")
+    command = cs.input_buffer("gripperCommand/ib", dt.gripper_command)
+    status = cs.output_buffer("gripperStatus/ob", dt.gripper_status)
+    finger_command = cs.output_buffer("fingerCommand/ob", dt.motor_controller_command)
+    finger_state = cs.input_buffer("fingerState/ib", dt.motor_controller_state)
+    pf = cs.partial_transition_function(
+        "gripperControl/pf",
+        reads=[command, finger_state],
+        writes=[status, finger_command],
+        body="// Finger setpoint from the gripper command; gripper status from the finger state.",
+    )
+    _single_state(cs, "operate", pf)
+    return cs
+
+
+def port(block: Block, name: str) -> Property:
+    """The port ``name`` of ``block``."""
+    return next(p for p in block.attributes if p.name == name)
+
+
+def link(agent: Block, source: tuple[Property, str], target: tuple[Property, str]) -> None:
+    """An inter-subsystem link of ``agent`` from ``source`` to ``target``, each (part, port name)."""
+    (src_part, src_port), (dst_part, dst_port) = source, target
+    src_type, dst_type = src_part.type, dst_part.type
+    assert isinstance(src_type, Block) and isinstance(dst_type, Block)
+    agent.connector(
+        f"{src_part.name},{dst_part.name}",
+        End.at(port(src_type, src_port), src_part),
+        End.at(port(dst_type, dst_port), dst_part),
+        "InterSubsystemLink",
+    )
+
+
+def build(stereotypes: bool = True) -> bytes:
+    """Build the sample and return its XMI; ``stereotypes=False`` gives the suffix-only variant."""
+    mb = ModelBuilder("PickAndPlace", stereotypes=stereotypes)
+    mb.comment(
+        "Pick-and-place robot system of the EARL paper (Electronics 2020, 9(2), 379, Section 3): "
+        f"a {N_JOINTS}-DOF manipulator agent, a gripper agent and a task agent supervising them."
+    )
+    dt = DataTypes(mb.package("DataTypes"))
+    pkg = mb.package("SystemInstance")
+
+    system = pkg.block("PickAndPlaceSystem", "System")
+    robot = pkg.block("PickAndPlaceRobot", "Robot")
+    task_agent = pkg.block("TaskAgent", "Agent", {"declaredType": "CT"})
+    task_agent.comment("task/a supervises picking and placing objects; it commands manip/a and grip/a.")
+    manip_agent = pkg.block("ManipulatorAgent", "Agent", {"declaredType": "CET"})
+    manip_agent.comment(
+        f"manip/a controls the {N_JOINTS}-DOF manipulator: one motor controller (ve) and one motor (re) "
+        "per joint under one control subsystem."
+    )
+    grip_agent = pkg.block("GripperAgent", "Agent", {"declaredType": "CET"})
+    grip_agent.comment("grip/a controls the gripper fingers; a separate agent so that grippers can be swapped.")
+
+    task_cs = task_control(pkg, dt)
+    manip_cs = manipulator_control(pkg, dt)
+    motor_ctrl = motor_controller(pkg, dt, "MotorController", "regulateMotor/pf")
+    motor_blk = motor(pkg, dt, "Motor", "driveMotor/pf")
+    grip_cs = gripper_control(pkg, dt)
+    finger_ctrl = motor_controller(pkg, dt, "FingerController", "regulateFinger/pf")
+    finger_motor = motor(pkg, dt, "FingerMotor", "driveFinger/pf")
+
+    # Structure (Figs. 8 and 10)
+    robot_part = system.part("pickAndPlace/r", robot)
+    task_part = system.part("task/a", task_agent)
+    manip_part = robot.part("manip/a", manip_agent)
+    grip_part = robot.part("grip/a", grip_agent)
+    task_cs_part = task_agent.part("cs", task_cs)
+
+    manip_cs_part = manip_agent.part("cs", manip_cs)
+    mc_part = manip_agent.part("motorControllerK/ve", motor_ctrl, N_JOINTS)
+    motor_part = manip_agent.part("motorK/re", motor_blk, N_JOINTS)
+    link(manip_agent, (manip_cs_part, "motorControllerCommandK/ob"), (mc_part, "motorControllerCommand/ib"))
+    link(manip_agent, (mc_part, "motorControllerState/ob"), (manip_cs_part, "motorControllerStateK/ib"))
+    link(manip_agent, (mc_part, "desiredCurrent/ob"), (motor_part, "desiredCurrent/ib"))
+    link(manip_agent, (motor_part, "encoder/ob"), (mc_part, "encoder/ib"))
+
+    grip_cs_part = grip_agent.part("cs", grip_cs)
+    finger_ctrl_part = grip_agent.part("fingerController/ve", finger_ctrl)
+    finger_motor_part = grip_agent.part("fingerMotor/re", finger_motor)
+    link(grip_agent, (grip_cs_part, "fingerCommand/ob"), (finger_ctrl_part, "motorControllerCommand/ib"))
+    link(grip_agent, (finger_ctrl_part, "motorControllerState/ob"), (grip_cs_part, "fingerState/ib"))
+    link(grip_agent, (finger_ctrl_part, "desiredCurrent/ob"), (finger_motor_part, "desiredCurrent/ib"))
+    link(grip_agent, (finger_motor_part, "encoder/ob"), (finger_ctrl_part, "encoder/ib"))
+
+    # Inter-agent links (Fig. 9): ends reach the cs ports through nested parts.
+    task_path = (task_part, task_cs_part)
+    manip_path = (robot_part, manip_part, manip_cs_part)
+    grip_path = (robot_part, grip_part, grip_cs_part)
+    ends = {
+        "task/a": (task_cs, task_path),
+        "manip/a": (manip_cs, manip_path),
+        "grip/a": (grip_cs, grip_path),
+    }
+    for source, target, message in (
+        ("task/a", "manip/a", "manipulatorCommand"),
+        ("manip/a", "task/a", "manipulatorState"),
+        ("task/a", "grip/a", "gripperCommand"),
+        ("grip/a", "task/a", "gripperStatus"),
+    ):
+        (src_cs, src_path), (dst_cs, dst_path) = ends[source], ends[target]
+        system.connector(
+            f"{source},{target}",
+            End.at(port(src_cs, f"{message}/ob"), *src_path),
+            End.at(port(dst_cs, f"{message}/ib"), *dst_path),
+            "InterAgentLink",
+        )
+    return mb.to_bytes()
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = sys.argv[1:] if argv is None else argv
+    target = Path(args[0]) if args else SAMPLE
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_bytes(build())
+    print(f"wrote {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

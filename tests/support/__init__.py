@@ -1,0 +1,1 @@
+"""Helpers shared by the test suite (model builders, fixtures written from code)."""
