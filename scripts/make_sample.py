@@ -191,7 +191,8 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
         "jointOrOperational", [new_joint, new_operational], "exclusive(newJointPos/pp, newOperationalPos/pp)"
     )
 
-    # Table 7 and Section 3.2
+    # Table 7 and Section 3.2. Stage-1 pf take their arguments from the input buffers (paper
+    # eq. 4): reading memory that calculatePosition/pf writes in the same stage would race.
     calculate = cs.partial_transition_function(
         "calculatePosition/pf",
         reads=[mc_state],
@@ -200,19 +201,19 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
     )
     passive = cs.partial_transition_function(
         "passiveRegulation/pf",
-        reads=[joint_pos],
+        reads=[mc_state],
         writes=[winding_current],
         body="// Winding currents that keep the manipulator still.",
     )
     joint_move = cs.partial_transition_function(
         "jointMove/pf",
-        reads=[command, joint_pos],
+        reads=[command, mc_state],
         writes=[motion_finished, winding_current],
         body="// Joint-space trajectory; PI regulator per joint: i = Kp*e + Ki*integral(e), e = desired - current.",
     )
     operational_move = cs.partial_transition_function(
         "operationalMove/pf",
-        reads=[command, operational_pos],
+        reads=[command, mc_state],
         writes=[motion_finished, winding_current],
         body="// Operational-space trajectory and the winding currents that realise it.",
     )

@@ -409,7 +409,7 @@ def test_manipulator_control_pf_parameters(tree: etree._ElementTree) -> None:
         ("motorControllerStateK/ib", "in"), ("currentJointPos/mo", "out"), ("currentOperationalPos/mo", "out"),
     ]  # fmt: skip
     assert pfs["jointMove/pf"] == [
-        ("manipulatorCommand/ib", "in"), ("currentJointPos/mi", "in"),
+        ("manipulatorCommand/ib", "in"), ("motorControllerStateK/ib", "in"),
         ("motionFinished/mo", "out"), ("windingCurrentK/mo", "out"),
     ]  # fmt: skip
     assert pfs["outputMotorCon/pf"] == [
