@@ -5,20 +5,14 @@ PY := $(VENV)/bin/python
 SAMPLE := samples/pick_and_place/pick_and_place.uml
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test setup system-deps lint wheel-check bench clean
+.PHONY: demo test setup wheel-check bench clean
 
 $(STAMP): pyproject.toml
-	@$(MAKE) --no-print-directory system-deps
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
 	@touch $(STAMP)
 
 setup: $(STAMP)
-
-# Debian packages the toolchain and its tests use; installed only when missing.
-system-deps:
-	@bash scripts/install-system-deps.sh
 
 demo: $(STAMP)
 	$(VENV)/bin/earl-m2t check $(SAMPLE)
@@ -28,7 +22,7 @@ test: $(STAMP)
 	$(PY) -m pytest -q
 
 wheel-check: $(STAMP)
-	bash scripts/wheel-check.sh
+	$(PY) -m pytest -q tests/packaging
 
 bench: $(STAMP)
 	$(PY) bench/run.py

@@ -35,17 +35,19 @@ def run(args: argparse.Namespace) -> int:
         return 2
     options = CheckOptions(select=select, ignore=ignore)
     diagnostics: list[Diagnostic] = []
-    unreadable = False
+    checked: list[str] = []
+    unreadable: list[dict[str, object]] = []
     for model in args.models:
         try:
             diagnostics.extend(check_loaded(load(model), options))
+            checked.append(model)
         except ModelReadError as exc:
             print(exc.one_line(), file=sys.stderr)
-            unreadable = True
+            unreadable.append({"file": exc.file, "line": exc.line, "message": exc.message})
     if args.format == "json":
-        sys.stdout.write(render_json(diagnostics, list(args.models)))
+        sys.stdout.write(render_json(diagnostics, checked, unreadable))
     else:
-        sys.stdout.write(render_text(diagnostics, len(args.models)))
+        sys.stdout.write(render_text(diagnostics, len(checked), len(unreadable)))
     if unreadable:
         return 2
     return 1 if any(d.severity is Severity.ERROR for d in diagnostics) else 0

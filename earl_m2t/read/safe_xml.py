@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from lxml import etree
@@ -24,6 +25,7 @@ def _parser() -> etree.XMLParser:
 
 def parse_xml_bytes(data: bytes, file: str) -> etree._ElementTree:
     """Parse XML bytes safely; any DTD is refused, since XMI never needs one."""
+    refuse_doctype_in_prolog(data[:_PROLOG_BYTES], file)
     try:
         root = etree.fromstring(data, _parser())
     except etree.XMLSyntaxError as exc:
@@ -34,10 +36,28 @@ def parse_xml_bytes(data: bytes, file: str) -> etree._ElementTree:
     return tree
 
 
+_PROLOG_BYTES = 65536
+_DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
+_FIRST_ELEMENT = re.compile(rb"<[A-Za-z_]")
+
+
+def refuse_doctype_in_prolog(head: bytes, file: str) -> None:
+    """XMI never declares a DTD: refuse one before the parser sees it (entity expansion, XXE)."""
+    doctype = _DOCTYPE.search(head)
+    if doctype is None:
+        return
+    element = _FIRST_ELEMENT.search(head)
+    if element is None or doctype.start() < element.start():
+        line = head.count(b"\n", 0, doctype.start()) + 1
+        raise ModelReadError(file, "document type declarations (DTD, entities) are not allowed in XMI files", line)
+
+
 def parse_xml_file(path: Path) -> etree._ElementTree:
     """Parse an XML file safely (the bytes go to lxml, so the declared encoding is honoured)."""
     file = str(path)
     try:
+        with open(path, "rb") as stream:
+            refuse_doctype_in_prolog(stream.read(_PROLOG_BYTES), file)
         tree = etree.parse(file, _parser())
     except OSError as exc:
         raise ModelReadError(file, f"cannot read file: {exc.strerror or exc}") from None
@@ -58,4 +78,5 @@ def _refuse_doctype(tree: etree._ElementTree, file: str) -> None:
 
 def _short(message: str | None) -> str:
     text = (message or "syntax error").strip().splitlines()[0]
+    text = re.sub(r", line \d+, column \d+$", "", text)  # the location is reported separately
     return text[:200]

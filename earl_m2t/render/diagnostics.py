@@ -23,12 +23,14 @@ def text_line(diag: Diagnostic) -> str:
     return f"{where}: {diag.code} {diag.severity.value}: {diag.message}{element}"
 
 
-def render_text(diagnostics: list[Diagnostic], files: int) -> str:
+def render_text(diagnostics: list[Diagnostic], files: int, unreadable: int = 0) -> str:
     lines = [text_line(d) for d in diagnostics]
     counts = summary_counts(diagnostics)
     noun = "file" if files == 1 else "files"
+    not_read = f", {unreadable} could not be read" if unreadable else ""
     lines.append(
-        f"{files} {noun} checked: {counts['error']} error(s), {counts['warning']} warning(s), {counts['info']} info"
+        f"{files} {noun} checked{not_read}: {counts['error']} error(s), {counts['warning']} warning(s), "
+        f"{counts['info']} info"
     )
     return "\n".join(lines) + "\n"
 
@@ -47,9 +49,10 @@ def diagnostic_dict(diag: Diagnostic) -> dict[str, object]:
     }
 
 
-def render_json(diagnostics: list[Diagnostic], files: list[str]) -> str:
+def render_json(diagnostics: list[Diagnostic], files: list[str], unreadable: list[dict[str, object]]) -> str:
     document = {
         "files": files,
+        "unreadable": unreadable,
         "diagnostics": [diagnostic_dict(d) for d in diagnostics],
         "summary": summary_counts(diagnostics),
     }
