@@ -68,7 +68,7 @@ def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: st
     if not bodies:
         return Condition("", "", raw.location(spec), owner, role)
     language, body = next(((lang, b) for lang, b in bodies if lang.strip().lower() in PREDICATE_LANGUAGES), bodies[0])
-    return Condition(body.strip(), language, raw.location(spec), owner, role)
+    return Condition(body.strip(), language, raw.body_location(spec), owner, role)
 
 
 class BehaviourLifter:
@@ -150,7 +150,7 @@ class BehaviourLifter:
                     ((lang, b) for lang, b in bodies if lang.strip().lower() in PREDICATE_LANGUAGES),
                     bodies[0] if bodies else ("", ""),
                 )
-                fun = Condition(body.strip(), language, self.raw.location(el), path, "fun")
+                fun = Condition(body.strip(), language, self.raw.body_location(el), path, "fun")
             if fun is not None and language.strip().lower() not in PREDICATE_LANGUAGES:
                 fun = None  # user code in another language (C++): generated as a stub to implement
             result.append(

@@ -215,6 +215,12 @@ class RawModel:
             for i, body in enumerate(bodies)
         ]
 
+    def body_location(self, el: Element) -> Location:
+        """Where an expression's text starts: its first ``<body>`` child, else the element itself."""
+        body = next(el.iterchildren("body"), None)
+        line = (body.sourceline if body is not None else None) or el.sourceline or 0
+        return Location(self.file, line, 0, self.xmi_id(el))
+
     def iter_owned(self, el: Element) -> Iterator[Element]:
         """Every element nested under ``el`` that carries an xmi:id (skipping tool extensions)."""
         ext_tag = f"{{{self.xmi_ns}}}Extension"

@@ -17,8 +17,6 @@ def summary_counts(diagnostics: Iterable[Diagnostic]) -> dict[str, int]:
 def text_line(diag: Diagnostic) -> str:
     loc = diag.location
     where = f"{loc.file}:{loc.line}" if loc.line else loc.file
-    if loc.line and loc.column:
-        where += f":{loc.column}"
     element = f" [{diag.element}]" if diag.element else ""
     return f"{where}: {diag.code} {diag.severity.value}: {diag.message}{element}"
 

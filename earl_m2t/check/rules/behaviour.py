@@ -68,7 +68,8 @@ def predicate_unknown_reference(model: EarlModel) -> Iterator[Finding]:
             if expr is None:
                 continue
             for found in resolver.problems(expr, condition):
-                yield Finding(f"{condition.owner}: {found.message}", found.location, condition.owner)
+                column = f" (column {found.location.column})" if found.location.column else ""
+                yield Finding(f"{condition.owner}: {found.message}{column}", found.location, condition.owner)
         for exclusion in sub.exclusions:
             for name in exclusion.predicates:
                 if resolver.predicate(name) is None:
