@@ -214,7 +214,12 @@ class _Generator:
         current_joint = cs.memory("currentJointPos/m", types["joints"])
         current_oper = cs.memory("currentOperationalPos/m", self.oper_position)
         setpoint = cs.memory("jointSetpoint/m", types["joints"])
-        torque = cs.memory("jointTorqueK/m", REAL, self.n_pairs)  # replicated: jointTorque1/m … jointTorqueS/m
+        if self.n_pairs > 1:  # replicated: jointTorque1/m … jointTorqueS/m, as windingCurrentK/m in the sample
+            torque = cs.memory("jointTorqueK/m", REAL, self.n_pairs)
+            overload = f"any K: jointTorqueK/m.data > {_threshold(i, 3)}"
+        else:
+            torque = cs.memory("jointTorque/m", REAL)
+            overload = f"jointTorque/m.data > {_threshold(i, 3)}"
 
         modes = _modes(CS_MODES, max(self.n_states - 2, 0))
         stop_terms = [f"joint{j}State/ib.msg.emergencyStop" for j in range(1, self.n_pairs + 1)]
@@ -231,7 +236,7 @@ class _Generator:
                 body = f"joint{j}State/ib.msg.motorPos > {_threshold(i, k)}"
             triggers.append(cs.primitive_predicate(f"new{_cap(mode)}/pp", body))
         false_pp = cs.primitive_predicate("false/pp", "FALSE")
-        overload_pp = cs.primitive_predicate("overload/pp", f"any K: jointTorqueK/m.data > {_threshold(i, 3)}")
+        overload_pp = cs.primitive_predicate("overload/pp", overload)
         if len(triggers) >= 2 and parent is not None:
             names = ", ".join(t.name for t in triggers)
             cs.exclusion("modesExclusive", triggers, body=f"exclusive({names})")

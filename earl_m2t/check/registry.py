@@ -24,12 +24,19 @@ class RuleInfo:
     severity: Severity
     summary: str
     source: str
-    engine: str  # "ocl" | "python"
+    engine: str  # "ocl" | "python" | "reader"
     message: str  # message template of ocl rules
 
     @property
     def family(self) -> str:
         return self.code[0]
+
+    @property
+    def rationale(self) -> str:
+        """The "Why it matters" paragraph of the rule's page."""
+        doc = self.doc()
+        _, found, rest = doc.partition("\n## Why it matters\n")
+        return rest.split("\n## ", 1)[0].strip() if found else self.summary
 
     def doc(self) -> str:
         """The rule's page (what, why, bad and good example), or its summary when it has none."""
