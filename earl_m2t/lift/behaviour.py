@@ -8,7 +8,6 @@ from dataclasses import dataclass
 import networkx as nx
 
 from earl_m2t.lift.recognise import Recogniser, suffix_of
-from earl_m2t.lift.replication import has_placeholder
 from earl_m2t.model.elements import (
     Access,
     ActivityProblem,
@@ -374,4 +373,4 @@ def parse_exclusive(text: str) -> list[str]:
     return [part.strip().removesuffix(".fun") for part in inner.split(",") if part.strip()]
 
 
-__all__ = ["BehaviourContext", "BehaviourLifter", "condition_of", "parse_exclusive", "has_placeholder"]
+__all__ = ["BehaviourContext", "BehaviourLifter", "condition_of", "parse_exclusive"]

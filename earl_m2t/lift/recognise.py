@@ -108,7 +108,7 @@ class Recogniser:
         else:
             concept, route = found[0]
             disagreeing = [
-                f"{r} says {c}" for c, r in found[1:] if not self._compatible(concept, c)
+                f"{r} says {c}" for c, r in found[1:] if not self.compatible(concept, c)
             ]
             conflict = f"{route} says {concept} but " + ", ".join(disagreeing) if disagreeing else ""
             result = Recognition(concept, route, conflict)
@@ -116,7 +116,7 @@ class Recogniser:
             self._cache[id(el)] = result
         return result
 
-    def _compatible(self, a: str, b: str) -> bool:
+    def compatible(self, a: str, b: str) -> bool:
         return self.profile.is_a(a, b) or self.profile.is_a(b, a)
 
     def is_a(self, concept: str, ancestor: str) -> bool:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
@@ -33,7 +33,7 @@ class _SubsystemInstance:
 class _AgentInstance:
     agent: Agent
     part: Element
-    block: Element
+    robot_part: Element | None  # the robot part holding the agent part, None directly in the system
     subsystems: list[_SubsystemInstance]
 
 
@@ -45,7 +45,6 @@ class StructureLifter:
         self.diagnostics: list[Diagnostic] = []
         self.recognised_anything = False
         self._outputs: set[str] = set()  # paths of every Output Buffer lifted so far
-        self._agent_instances: list[_AgentInstance] = []
 
     # -- helpers -----------------------------------------------------------------------------
     def _note(self, code: str, severity: Severity, message: str, el: Element, element: str = "") -> None:
@@ -76,7 +75,7 @@ class StructureLifter:
         by_block = self._recognise(block, path=path)
         if by_block.concept:
             by_part = self.recogniser.by_suffix(self.raw.name(part))
-            if by_part and not self.recogniser._compatible(by_block.concept, by_part):
+            if by_part and not self.recogniser.compatible(by_block.concept, by_part):
                 self._note("R001", Severity.WARNING,
                            f"conflicting EARL evidence: block {self.raw.name(block)} is {by_block.concept} but the part name says {by_part}",
                            part, path)
@@ -127,13 +126,13 @@ class StructureLifter:
                     robot_path = robot_part_name
                     for agent_part, agent_block in self._parts(part_type):
                         if self._part_concept(agent_part, agent_block, robot_path)[0] == "Agent":
-                            for inst in self._agents(agent_part, agent_block, robot_path):
+                            for inst in self._agents(agent_part, agent_block, robot_path, part):
                                 agents.append(inst)
                                 robot_agents.append(inst.agent.path)
                     robots.append(Robot(robot_part_name, robot_path, self.raw.name(part_type), tuple(robot_agents),
                                         self.raw.location(part), self.recogniser.recognise(part_type).route or "suffix"))
             elif concept == "Agent":
-                agents.extend(self._agents(part, part_type, ""))
+                agents.extend(self._agents(part, part_type, "", None))
         links = self._system_links(block, name, agents)
         linked_agents = {l.source.split(".", 1)[0] for l in links if l.source} | {
             l.target.split(".", 1)[0] for l in links if l.target
@@ -144,7 +143,7 @@ class StructureLifter:
             has_t = agent.path in linked_agents
             has_e = bool(agent.ve) and bool(agent.re)
             has_r = bool(agent.vr) and bool(agent.rr)
-            final_agents.append(_replace_agent(agent, computed_agent_type(has_e, has_r, has_t)))
+            final_agents.append(replace(agent, computed_type=computed_agent_type(has_e, has_r, has_t)))
         return System(name, name, tuple(robots), tuple(final_agents), tuple(links), self.raw.location(block),
                       recognition.route or "structure")
 
@@ -153,14 +152,10 @@ class StructureLifter:
         return expand(self.raw.name(part), instance_count(lower, upper))
 
     # -- agents ------------------------------------------------------------------------------
-    def _agents(self, part: Element, block: Element, robot: str) -> list[_AgentInstance]:
-        result = []
-        for agent_name, _ in self._instances(part):
-            result.append(self._agent(agent_name, part, block, robot))
-        self._agent_instances.extend(result)
-        return result
+    def _agents(self, part: Element, block: Element, robot: str, robot_part: Element | None) -> list[_AgentInstance]:
+        return [self._agent(name, part, block, robot, robot_part) for name, _ in self._instances(part)]
 
-    def _agent(self, name: str, part: Element, block: Element, robot: str) -> _AgentInstance:
+    def _agent(self, name: str, part: Element, block: Element, robot: str, robot_part: Element | None) -> _AgentInstance:
         path = name
         subsystem_parts = []
         for sub_part, sub_block in self._parts(block):
@@ -179,7 +174,7 @@ class StructureLifter:
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()
         agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
                       declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix")
-        return _AgentInstance(agent, part, block, instances)
+        return _AgentInstance(agent, part, robot_part, instances)
 
     # -- subsystems --------------------------------------------------------------------------
     def _subsystem(self, part: Element, block: Element, kind: str, route: str, agent_path: str,
@@ -284,18 +279,17 @@ class StructureLifter:
         for app in self.raw.applied(end):
             if app.name == "NestedConnectorEnd" and "propertyPath" in app.tags:
                 path_ids = app.tags["propertyPath"].split()
-        path_parts = [self.raw.by_id.get(i) for i in path_ids]
-        agent_parts = [p for p in path_parts if p is not None and any(a.part is p for a in agents)]
-        if not agent_parts:
+        path_parts = [p for p in (self.raw.by_id.get(i) for i in path_ids) if p is not None]
+        agent_parts = {id(a.part) for a in agents}
+        agent_part = next((p for p in reversed(path_parts) if id(p) in agent_parts), None)
+        if agent_part is None:
             return None
-        candidates = [a for a in agents if a.part is agent_parts[-1]]
-        robot_parts = [p for p in path_parts if p is not None and p is not agent_parts[-1]]
-        if robot_parts:
-            robot_names = {self.raw.name(p) for p in robot_parts}
-            candidates = [a for a in candidates if not a.agent.robot or a.agent.robot in robot_names
-                          or any(a.agent.robot.startswith(_stem_index(r)) for r in robot_names)]
+        outer = path_parts[: path_parts.index(agent_part)]
+        robot_part = outer[-1] if outer else None
         found: list[str] = []
-        for agent in candidates:
+        for agent in agents:
+            if agent.part is not agent_part or (robot_part is not None and agent.robot_part is not robot_part):
+                continue
             parts: dict[int, list[_SubsystemInstance]] = {}
             for inst in agent.subsystems:
                 parts.setdefault(id(inst.part), []).append(inst)
@@ -346,24 +340,16 @@ class StructureLifter:
         return buffer_path in self._outputs
 
     def _looks_like_link(self, connector: Element) -> bool:
-        return bool(self.recogniser.recognise(connector).concept) or any(
-            self.raw.uml_type(self.raw.ref(e, "role")) == "Port"
-            for e in self.raw.children(connector, "end")
-            if isinstance(self.raw.ref(e, "role"), type(connector))
-        )
-
+        """A connector meant as an EARL link: stereotyped as one, or joining ports."""
+        if self.recogniser.recognise(connector).concept:
+            return True
+        for end in self.raw.children(connector, "end"):
+            role = self.raw.ref(end, "role")
+            if role is not None and not isinstance(role, ExternalRef) and self.raw.uml_type(role) == "Port":
+                return True
+        return False
 
 def _subsystem_name(buffer_path: str, prefix: str) -> str:
     """``manip/a.cs.x/ob`` → ``cs`` (inside an agent) or ``manip/a`` (between agents)."""
     parts = buffer_path.split(".")
     return parts[1] if prefix else parts[0]
-
-
-def _stem_index(name: str) -> str:
-    return name.rpartition("/")[0].rstrip("K") if "/" in name else name
-
-
-def _replace_agent(agent: Agent, computed: str) -> Agent:
-    from dataclasses import replace
-
-    return replace(agent, computed_type=computed)
