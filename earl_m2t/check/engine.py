@@ -9,6 +9,7 @@ from typing import Iterable, Iterator
 from earl_m2t.check.registry import Finding, RuleInfo, catalogue, python_rules
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.location import Location
 from earl_m2t.ocl import Invariant, OclEvaluationError, check as ocl_check, parse_invariants
 from earl_m2t.resources import metamodel_path
 
@@ -90,11 +91,15 @@ def check_model(model: EarlModel, options: CheckOptions | None = None) -> list[D
     rules = catalogue()
     implementations = python_rules()
     found: list[Diagnostic] = []
-    if not model.has_earl_content:
+    if not model.systems:
         if options.enabled("R003"):
             info = rules["R003"]
-            found.append(Diagnostic("R003", options.severity(info), f"{model.file} holds no EARL model "
-                                    "(no System, Robot or Agent recognised)", _file_location(model)))
+            if model.has_earl_content:
+                message = (f"{model.file} has EARL elements but no System: a block stereotyped «System», or a "
+                           "top-level block whose parts are robots or agents, is needed")
+            else:
+                message = f"{model.file} holds no EARL model (no System, Robot or Agent recognised)"
+            found.append(Diagnostic("R003", options.severity(info), message, Location(model.file, 1)))
         return found
     invariants: dict[str, list[Invariant]] = {}
     for invariant in builtin_invariants():
@@ -130,9 +135,3 @@ def deduplicate(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
 def _template(message: str) -> str:
     """Messages of replicated instances differ only in the instance index."""
     return "".join("#" if ch.isdigit() else ch for ch in message)
-
-
-def _file_location(model: EarlModel):
-    from earl_m2t.model.location import Location
-
-    return Location(model.file, 1)
