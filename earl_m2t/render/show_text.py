@@ -19,6 +19,8 @@ def render_model(model: EarlModel) -> str:
     if not model.has_earl_content:
         lines.append("  holds no EARL model: no System, Robot or Agent was recognised")
         return "\n".join(lines) + "\n"
+    if not model.systems:
+        lines.append("  has EARL elements but no System block holding robots or agents")
     for system in model.systems:
         lines.append(f"system {system.name}")
         for robot in system.robots:
