@@ -94,10 +94,13 @@ class StructureLifter:
         return [self._system(block) for block in system_blocks]
 
     def _all_classes(self) -> list[Element]:
+        """Every block of the model (the tag filter runs in lxml, not in Python)."""
+        raw = self.raw
         found = []
-        for top in self.raw.model_roots:
-            for el in self.raw.iter_owned(top):
-                if self.raw.uml_type(el) == "Class" and self.raw.feature(el) in ("packagedElement", "nestedClassifier"):
+        for top in raw.model_roots:
+            for el in top.iter("packagedElement", "nestedClassifier"):
+                # an element indexed under its own id is model content, not a tool extension's copy
+                if raw.uml_type(el) == "Class" and raw.by_id.get(raw.xmi_id(el)) is el:
                     found.append(el)
         return found
 

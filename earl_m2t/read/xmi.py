@@ -13,7 +13,6 @@ import zipfile
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
-from typing import Iterator
 
 from lxml import etree
 
@@ -142,10 +141,6 @@ class RawModel:
             return ""
         return self.table.implicit_types.get(str(tag), "")
 
-    def feature(self, el: Element) -> str:
-        tag = el.tag
-        return tag if isinstance(tag, str) and not tag.startswith("{") else ""
-
     # -- containment -----------------------------------------------------------------------
     def children(self, el: Element, feature: str, *types: str) -> list[Element]:
         """Contained children in ``feature`` (XML element name), optionally of given UML types."""
@@ -220,19 +215,6 @@ class RawModel:
         body = next(el.iterchildren("body"), None)
         line = (body.sourceline if body is not None else None) or el.sourceline or 0
         return Location(self.file, line, 0, self.xmi_id(el))
-
-    def iter_owned(self, el: Element) -> Iterator[Element]:
-        """Every element nested under ``el`` that carries an xmi:id (skipping tool extensions)."""
-        ext_tag = f"{{{self.xmi_ns}}}Extension"
-        id_attr = f"{{{self.xmi_ns}}}id"
-        stack = list(reversed(list(el)))
-        while stack:
-            child = stack.pop()
-            if child.tag == ext_tag or not isinstance(child.tag, str):
-                continue
-            if child.get(id_attr) is not None:
-                yield child
-            stack.extend(reversed(list(child)))
 
 
 def load_raw_model(path: Path) -> RawModel:
