@@ -1,0 +1,955 @@
+"""Every catalogue rule has a broken model that triggers exactly that rule.
+
+Each row of ``VARIANTS`` is a small, named mutation of the reference sample
+(``samples/pick_and_place/pick_and_place.uml``), applied to its XML with lxml by element
+name and structure, or - where a mutation of the sample would drag in other rules - a small
+model written with the Papyrus builder. The test writes the variant, checks it and asserts
+that
+
+- the set of codes reported is exactly ``{CODE}`` (the row id up to the first ``-``), with
+  at least one finding;
+- one of those findings points at the broken element (its xmi:id or its line) and its
+  message names that element.
+
+A rule with several distinct triggers has one row per trigger (``B001-two-initial``).
+``test_every_catalogue_rule_has_a_variant`` fails when a rule is added without a row.
+"""
+
+from __future__ import annotations
+
+import copy
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import pytest
+from lxml import etree
+
+from earl_m2t import Diagnostic, check
+from earl_m2t.check.registry import catalogue
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from tests.support.papyrus_builder import REAL, Block, End, ModelBuilder, Property  # noqa: E402
+
+XMI = "http://www.omg.org/spec/XMI/20131001"
+UML = "http://www.eclipse.org/uml2/5.0.0/UML"
+XMI_ID = f"{{{XMI}}}id"
+XMI_TYPE = f"{{{XMI}}}type"
+NS = {"xmi": XMI, "uml": UML}
+
+
+# ---- what a variant promises ------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Expect:
+    """Where a finding of the variant must point, and what its message must name.
+
+    ``xmi_id`` is the element the rule reports (a finding matches by that id or by the
+    element's line in the written variant); ``line`` is used instead for file-level
+    findings. ``name`` must occur in the message; ``{file}`` stands for the variant's path.
+    """
+
+    xmi_id: str = ""
+    name: str = ""
+    line: int = 0
+
+
+# ---- the sample as an lxml tree ---------------------------------------------------------
+
+
+class Sample:
+    """The model under mutation: look-ups by element name and structure, edits that keep
+    the stereotype applications consistent."""
+
+    def __init__(self, data: bytes) -> None:
+        self.root = etree.fromstring(data)
+        self._counter = 0
+
+    def replace(self, data: bytes) -> None:
+        """Use another model (one written with the builder) instead of the sample."""
+        self.root = etree.fromstring(data)
+
+    def to_bytes(self) -> bytes:
+        return etree.tostring(self.root, xml_declaration=True, encoding="UTF-8")
+
+    # -- ids --------------------------------------------------------------------------------
+    @staticmethod
+    def id(el: etree._Element) -> str:
+        return el.get(XMI_ID) or ""
+
+    def new_id(self) -> str:
+        self._counter += 1
+        return f"_variantElement{self._counter:03d}"
+
+    # -- look-ups ---------------------------------------------------------------------------
+    @staticmethod
+    def _one(found: list, what: str) -> etree._Element:
+        assert len(found) == 1, f"{what}: {len(found)} matches in the sample"
+        return found[0]
+
+    def _find(self, context: etree._Element, path: str, what: str, **names: str) -> etree._Element:
+        return self._one(context.xpath(path, namespaces=NS, **names), what)
+
+    def block(self, name: str) -> etree._Element:
+        return self._find(self.root, '//packagedElement[@xmi:type="uml:Class"][@name=$n]', f"block {name}", n=name)
+
+    def datatype(self, name: str) -> etree._Element:
+        return self._find(self.root, '//packagedElement[@xmi:type="uml:DataType"][@name=$n]', f"dataType {name}",
+                          n=name)
+
+    def attribute(self, owner: str, name: str) -> etree._Element:
+        """A part, port or value property of block ``owner`` (or a field of a dataType)."""
+        found = self.root.xpath('//packagedElement[@name=$o]/ownedAttribute[@name=$n]', namespaces=NS, o=owner, n=name)
+        return self._one(found, f"{owner}.{name}")
+
+    def behavior(self, block: str, name: str) -> etree._Element:
+        return self._find(self.block(block), "ownedBehavior[@name=$n]", f"{block}.{name}", n=name)
+
+    def parameter(self, block: str, behavior: str, name: str) -> etree._Element:
+        return self._find(self.behavior(block, behavior), "ownedParameter[@name=$n]", f"{behavior}({name})", n=name)
+
+    def connector(self, block: str, name: str) -> etree._Element:
+        return self._find(self.block(block), "ownedConnector[@name=$n]", f"{block} connector {name}", n=name)
+
+    def state_machine(self, block: str) -> etree._Element:
+        return self._find(self.block(block), 'ownedBehavior[@xmi:type="uml:StateMachine"]', f"{block} FSM")
+
+    def region(self, block: str) -> etree._Element:
+        return self._find(self.state_machine(block), "region", f"{block} FSM region")
+
+    def state(self, block: str, name: str) -> etree._Element:
+        return self._find(self.region(block), 'subvertex[@xmi:type="uml:State"][@name=$n]', f"{block} state {name}",
+                          n=name)
+
+    def initial_pseudostate(self, block: str) -> etree._Element:
+        return self._find(self.region(block), 'subvertex[@xmi:type="uml:Pseudostate"]', f"{block} initial pseudostate")
+
+    def transition(self, block: str, name: str) -> etree._Element:
+        return self._find(self.region(block), "transition[@name=$n]", f"{block} transition {name}", n=name)
+
+    def transition_from(self, block: str, source: etree._Element) -> etree._Element:
+        return self._find(self.region(block), "transition[@source=$s]", f"{block} transition from {self.id(source)}",
+                          s=self.id(source))
+
+    def activity(self, block: str, state: str) -> etree._Element:
+        """The basic behaviour (doActivity) of a state."""
+        return self._find(self.state(block, state), "doActivity", f"{block} {state}/bb")
+
+    def node(self, activity: etree._Element, name: str) -> etree._Element:
+        return self._find(activity, "node[@name=$n]", f"activity node {name}", n=name)
+
+    def guard_body(self, block: str, transition: str) -> etree._Element:
+        return self._find(self.transition(block, transition), "ownedRule/specification/body", f"guard of {transition}")
+
+    def stereotype_applications(self, name: str | None = None) -> list[etree._Element]:
+        """Stereotype applications (children of the root outside the UML namespace)."""
+        apps = []
+        for child in self.root:
+            if not isinstance(child.tag, str) or child.tag.startswith(f"{{{UML}}}"):
+                continue
+            if name is None or etree.QName(child).localname == name:
+                apps.append(child)
+        return apps
+
+    def application(self, name: str, base: etree._Element) -> etree._Element:
+        base_id = self.id(base)
+        found = [a for a in self.stereotype_applications(name) if base_id in _base_ids(a)]
+        return self._one(found, f"«{name}» of {base_id}")
+
+    # -- edits ------------------------------------------------------------------------------
+    def remove(self, el: etree._Element) -> None:
+        """Delete an element, everything it contains and the stereotypes applied to them."""
+        ids = {self.id(e) for e in el.iter() if self.id(e)}
+        el.getparent().remove(el)
+        for app in self.stereotype_applications():
+            if _base_ids(app) & ids:
+                self.root.remove(app)
+
+    def add(self, parent: etree._Element, tag: str, xmi_type: str, after: etree._Element | None = None,
+            **attrs: str) -> etree._Element:
+        """A new element with a fresh xmi:id, appended to ``parent`` or put right after ``after``."""
+        el = etree.Element(tag, {XMI_TYPE: xmi_type, XMI_ID: self.new_id()})
+        for key, value in attrs.items():
+            el.set(key, value)
+        if after is not None:
+            after.addnext(el)
+        else:
+            parent.append(el)
+        return el
+
+    def apply(self, stereotype: str, metaclass: str, base: etree._Element, **tags: str) -> etree._Element:
+        """Apply an EARL stereotype to ``base``, as Papyrus does (an element after the model)."""
+        earl = self.root.nsmap["EARL"]
+        app = etree.SubElement(self.root, f"{{{earl}}}{stereotype}",
+                               {XMI_ID: self.new_id(), f"base_{metaclass}": self.id(base)})
+        for key, value in tags.items():
+            app.set(key, value)
+        return app
+
+    def connect(self, block: str, name: str, *ends: tuple[etree._Element, etree._Element],
+                stereotype: str = "InterSubsystemLink") -> etree._Element:
+        """A connector of ``block`` between (part, port) ends, stereotyped like the sample's links."""
+        connector = self.add(self.block(block), "ownedConnector", "uml:Connector", name=name)
+        connector.addprevious(connector)  # keep it after the block's last connector
+        last = self.block(block).xpath("ownedConnector")[-2]
+        last.addnext(connector)
+        for part, port in ends:
+            self.add(connector, "end", "uml:ConnectorEnd", partWithPort=self.id(part), role=self.id(port))
+        self.apply(stereotype, "Connector", connector)
+        return connector
+
+    def flow(self, activity: etree._Element, source: etree._Element, target: etree._Element) -> etree._Element:
+        """A control flow of ``activity``, with the nodes' redundant incoming/outgoing lists."""
+        first_node = activity.xpath("node")[0]
+        edge = etree.Element("edge", {XMI_TYPE: "uml:ControlFlow", XMI_ID: self.new_id(),
+                                      "target": self.id(target), "source": self.id(source)})
+        first_node.addprevious(edge)
+        _append_ref(source, "outgoing", self.id(edge))
+        _append_ref(target, "incoming", self.id(edge))
+        return edge
+
+    def multiplicity(self, el: etree._Element, value: int) -> None:
+        self.add(el, "lowerValue", "uml:LiteralInteger", value=str(value))
+        self.add(el, "upperValue", "uml:LiteralUnlimitedNatural", value=str(value))
+
+
+def _base_ids(app: etree._Element) -> set[str]:
+    return {v for k, v in app.attrib.items() if k.startswith("base_")}
+
+
+def _append_ref(el: etree._Element, attr: str, ref: str) -> None:
+    el.set(attr, " ".join([*(el.get(attr) or "").split(), ref]))
+
+
+def _remove_ref(el: etree._Element, attr: str, ref: str) -> None:
+    el.set(attr, " ".join(r for r in (el.get(attr) or "").split() if r != ref))
+
+
+def _move_agents_to_system(s: Sample) -> etree._Element:
+    """Move manip/a and grip/a from the robot block into the System block; returns the robot part."""
+    robot_part = s.attribute("PickAndPlaceSystem", "pickAndPlace/r")
+    for agent in ("manip/a", "grip/a"):
+        part = s.attribute("PickAndPlaceRobot", agent)
+        robot_part.getparent().xpath("ownedAttribute")[-1].addnext(part)
+    # the inter-agent links now reach the agents' cs ports without going through the robot
+    for app in s.stereotype_applications("NestedConnectorEnd"):
+        app.set("propertyPath", " ".join(p for p in app.get("propertyPath", "").split() if p != s.id(robot_part)))
+    return robot_part
+
+
+# ---- small models written with the builder ----------------------------------------------
+
+KIND_STEREOTYPES = {
+    "cs": "ControlSubsystem",
+    "ve": "VirtualEffector",
+    "re": "RealEffector",
+    "vr": "VirtualReceptor",
+    "rr": "RealReceptor",
+}
+
+
+@dataclass
+class MiniAgent:
+    block: Block
+    part: Property
+    parts: dict[str, Property] = field(default_factory=dict)
+
+
+class Mini:
+    """A small system in the Papyrus dialect: robot ``mini/r`` holding ``task/a`` and
+    ``peer/a``, whose control subsystems exchange ``command`` and ``status`` (both agents are
+    of type CT and the model checks clean). Variants add subsystems and links to ``task/a``."""
+
+    def __init__(self) -> None:
+        self.mb = ModelBuilder("Mini")
+        types = self.mb.package("DataTypes")
+        self.message = types.data_type("Message")
+        self.message.field("value", REAL)
+        self.pkg = self.mb.package("SystemInstance")
+        self.system = self.pkg.block("MiniSystem", "System")
+        self.robot = self.pkg.block("MiniRobot", "Robot")
+        self.robot_part = self.system.part("mini/r", self.robot)
+        self.agents: dict[str, MiniAgent] = {}
+
+    def subsystem(self, block: str, kind: str, ins: tuple[str, ...] = (), outs: tuple[str, ...] = (),
+                  memory: tuple[str, ...] = ()) -> Block:
+        """A subsystem block with buffers ``x/ib``, ``x/ob``, memory ``x/m``, one pf reading the
+        inputs and writing the rest, and an FSM of one state running it."""
+        sub = self.pkg.block(block, KIND_STEREOTYPES[kind])
+        reads = [sub.input_buffer(f"{n}/ib", self.message) for n in ins]
+        writes = [sub.output_buffer(f"{n}/ob", self.message) for n in outs]
+        writes += [sub.memory(f"{n}/m", REAL) for n in memory]
+        pf = sub.partial_transition_function("step/pf", reads=reads, writes=writes)
+        sub.state_machine().state("run", initial=True).do_activity().stages([[pf]])
+        return sub
+
+    def agent(self, name: str, block: str, subsystems: dict[str, Block]) -> MiniAgent:
+        agent_block = self.pkg.block(block, "Agent")
+        part = self.robot.part(name, agent_block)
+        agent = MiniAgent(agent_block, part, {n: agent_block.part(n, t) for n, t in subsystems.items()})
+        self.agents[name] = agent
+        return agent
+
+    @staticmethod
+    def _end(part: Property, port: str, *path: Property) -> End:
+        block = part.type
+        assert isinstance(block, Block)
+        return End.at(next(p for p in block.attributes if p.name == port), *path, part)
+
+    def link(self, agent: MiniAgent, source: str, target: str, name: str | None = None):
+        """A link of ``agent`` from ``part.port`` to ``part.port`` (``cs.raw/ob``)."""
+        (src, src_port), (dst, dst_port) = source.split(".", 1), target.split(".", 1)
+        return agent.block.connector(name or f"{src},{dst}", self._end(agent.parts[src], src_port),
+                                     self._end(agent.parts[dst], dst_port), "InterSubsystemLink")
+
+    def task(self, ins: tuple[str, ...] = (), outs: tuple[str, ...] = (),
+             subsystems: dict[str, Block] | None = None) -> MiniAgent:
+        """``task/a``, its cs (ports ``status/ib``, ``command/ob`` plus ``ins``/``outs``) and
+        ``subsystems``; then ``peer/a`` and the two inter-agent links."""
+        cs = self.subsystem("TaskControl", "cs", ("status", *ins), ("command", *outs))
+        task = self.agent("task/a", "TaskAgent", {"cs": cs, **(subsystems or {})})
+        peer = self.agent("peer/a", "PeerAgent", {"cs": self.subsystem("PeerControl", "cs", ("command",), ("status",))})
+        for (src, dst, message) in ((task, peer, "command"), (peer, task, "status")):
+            src_name = next(n for n, a in self.agents.items() if a is src)
+            dst_name = next(n for n, a in self.agents.items() if a is dst)
+            self.system.connector(
+                f"{src_name},{dst_name}",
+                self._end(src.parts["cs"], f"{message}/ob", self.robot_part, src.part),
+                self._end(dst.parts["cs"], f"{message}/ib", self.robot_part, dst.part),
+                "InterAgentLink",
+            )
+        return task
+
+    def to_bytes(self) -> bytes:
+        return self.mb.to_bytes()
+
+
+def mini_base() -> Mini:
+    mini = Mini()
+    mini.task()
+    return mini
+
+
+# ---- S: structure -----------------------------------------------------------------------
+
+
+def system_without_robot(s: Sample) -> Expect:
+    """S001: the System owns no Robot. manip/a and grip/a become parts of the System block
+    PickAndPlaceSystem directly (the inter-agent links' nested ends follow them) and the
+    robot part pickAndPlace/r is deleted together with its block PickAndPlaceRobot."""
+    robot_part = _move_agents_to_system(s)
+    s.remove(robot_part)
+    s.remove(s.block("PickAndPlaceRobot"))
+    system = s.block("PickAndPlaceSystem")
+    return Expect(s.id(system), "PickAndPlaceSystem")
+
+
+def robot_without_agent(s: Sample) -> Expect:
+    """S002: the Robot pickAndPlace/r contains no Agent: its agent parts manip/a and grip/a
+    move from the robot block to the System block, the robot part stays."""
+    robot_part = _move_agents_to_system(s)
+    return Expect(s.id(robot_part), "pickAndPlace/r")
+
+
+def agent_with_two_control_subsystems(s: Sample) -> Expect:
+    """S003: the Agent task/a has two Control Subsystems: its part ``cs`` gets the fixed
+    multiplicity [2] (replicated instances cs1, cs2, both still linked to manip/a and grip/a)."""
+    s.multiplicity(s.attribute("TaskAgent", "cs"), 2)
+    return Expect(s.id(s.attribute("PickAndPlaceSystem", "task/a")), "task/a")
+
+
+def virtual_receptor_without_real_receptor(s: Sample) -> Expect:
+    """S004 (small model): task/a has a Virtual Receptor filter/vr, linked both ways to its
+    cs, but no Real Receptor."""
+    mini = Mini()
+    vr = mini.subsystem("Filter", "vr", ("raw",), ("filtered",))
+    task = mini.task(("filtered",), ("raw",), {"filter/vr": vr})
+    mini.link(task, "cs.raw/ob", "filter/vr.raw/ib")
+    mini.link(task, "filter/vr.filtered/ob", "cs.filtered/ib")
+    s.replace(mini.to_bytes())
+    return Expect(task.part.id, "task/a")
+
+
+def virtual_effector_without_real_effector(s: Sample) -> Expect:
+    """S005 (small model): task/a has a Virtual Effector driver/ve, linked both ways to its
+    cs, but no Real Effector."""
+    mini = Mini()
+    ve = mini.subsystem("Driver", "ve", ("drive",), ("state",))
+    task = mini.task(("state",), ("drive",), {"driver/ve": ve})
+    mini.link(task, "cs.drive/ob", "driver/ve.drive/ib")
+    mini.link(task, "driver/ve.state/ob", "cs.state/ib")
+    s.replace(mini.to_bytes())
+    return Expect(task.part.id, "task/a")
+
+
+def zombie_agent(s: Sample) -> Expect:
+    """S006 (small model): a third Agent spare/a whose cs only keeps a memory: no effectors,
+    no receptors, no inter-agent link - a zombie (type C)."""
+    mini = mini_base()
+    spare = mini.agent("spare/a", "SpareAgent", {"cs": mini.subsystem("SpareControl", "cs", memory=("heartbeat",))})
+    s.replace(mini.to_bytes())
+    return Expect(spare.part.id, "spare/a")
+
+
+def declared_type_mismatch(s: Sample) -> Expect:
+    """S007: task/a's «Agent» declaredType says CET (teleoperated) but the agent has no
+    effectors: its structure makes it CT."""
+    task = s.block("TaskAgent")
+    s.application("Agent", task).set("declaredType", "CET")
+    return Expect(s.id(s.attribute("PickAndPlaceSystem", "task/a")), "task/a")
+
+
+def virtual_effector_without_output(s: Sample) -> Expect:
+    """S008 (small model): task/a drives motor/re through driver/ve, and also has a second
+    Virtual Effector lamp/ve fed by the cs that has an Input Buffer but no Output Buffer."""
+    mini = Mini()
+    driver = mini.subsystem("Driver", "ve", ("drive",), ("current",))
+    lamp = mini.subsystem("Lamp", "ve", ("lamp",))
+    motor = mini.subsystem("Motor", "re", ("current",))
+    task = mini.task((), ("drive", "lamp"), {"driver/ve": driver, "lamp/ve": lamp, "motor/re": motor})
+    mini.link(task, "cs.drive/ob", "driver/ve.drive/ib")
+    mini.link(task, "driver/ve.current/ob", "motor/re.current/ib")
+    mini.link(task, "cs.lamp/ob", "lamp/ve.lamp/ib")
+    s.replace(mini.to_bytes())
+    return Expect(task.parts["lamp/ve"].id, "lamp/ve")
+
+
+def untyped_memory(s: Sample) -> Expect:
+    """S009: the Internal Memory currentJointPos/m of ManipulatorControl loses its type
+    (the value property has no dataType)."""
+    memory = s.attribute("ManipulatorControl", "currentJointPos/m")
+    del memory.attrib["type"]
+    return Expect(s.id(memory), "currentJointPos/m")
+
+
+# ---- C: links ---------------------------------------------------------------------------
+
+
+def link_between_two_outputs(s: Sample) -> Expect:
+    """C001: a new link of GripperAgent joins two Output Buffers: cs.fingerCommand/ob and
+    fingerController/ve.desiredCurrent/ob."""
+    cs, ve = s.attribute("GripperAgent", "cs"), s.attribute("GripperAgent", "fingerController/ve")
+    connector = s.connect("GripperAgent", "cs,fingerController/ve",
+                          (cs, s.attribute("GripperControl", "fingerCommand/ob")),
+                          (ve, s.attribute("FingerController", "desiredCurrent/ob")))
+    return Expect(s.id(connector), "grip/a.cs,fingerController/ve")
+
+
+def link_between_two_inputs(s: Sample) -> Expect:
+    """C001: a new link of GripperAgent joins two Input Buffers: fingerController/ve's
+    motorControllerCommand/ib and cs.fingerState/ib."""
+    cs, ve = s.attribute("GripperAgent", "cs"), s.attribute("GripperAgent", "fingerController/ve")
+    connector = s.connect("GripperAgent", "fingerController/ve,cs",
+                          (ve, s.attribute("FingerController", "motorControllerCommand/ib")),
+                          (cs, s.attribute("GripperControl", "fingerState/ib")))
+    return Expect(s.id(connector), "grip/a.fingerController/ve,cs")
+
+
+def link_to_a_memory(s: Sample) -> Expect:
+    """C001: a new link of GripperAgent goes from cs.fingerCommand/ob to the Internal Memory
+    integralError/m of fingerController/ve - a value property, not a buffer."""
+    cs, ve = s.attribute("GripperAgent", "cs"), s.attribute("GripperAgent", "fingerController/ve")
+    connector = s.connect("GripperAgent", "cs,fingerController/ve",
+                          (cs, s.attribute("GripperControl", "fingerCommand/ob")),
+                          (ve, s.attribute("FingerController", "integralError/m")))
+    return Expect(s.id(connector), "cs,fingerController/ve")
+
+
+def link_control_to_real_effector(s: Sample) -> Expect:
+    """C002 (small model): besides the chain cs → driver/ve → motor/re, task/a links its cs
+    straight to the Real Effector motor/re (cs → re is not a permitted link)."""
+    mini = Mini()
+    driver = mini.subsystem("Driver", "ve", ("drive",), ("current",))
+    motor = mini.subsystem("Motor", "re", ("current",))
+    task = mini.task((), ("drive", "direct"), {"driver/ve": driver, "motor/re": motor})
+    mini.link(task, "cs.drive/ob", "driver/ve.drive/ib")
+    mini.link(task, "driver/ve.current/ob", "motor/re.current/ib")
+    direct = mini.link(task, "cs.direct/ob", "motor/re.current/ib")
+    s.replace(mini.to_bytes())
+    return Expect(direct.id, "task/a.cs,motor/re")
+
+
+def inter_agent_link_inside_one_agent(s: Sample) -> Expect:
+    """C003: an inter-agent link (a connector of the System block with nested ends) from
+    manip/a's cs.motorControllerCommandK/ob to manip/a's motorControllerK/ve - both ends in
+    one agent."""
+    system = s.block("PickAndPlaceSystem")
+    robot, manip = s.attribute("PickAndPlaceSystem", "pickAndPlace/r"), s.attribute("PickAndPlaceRobot", "manip/a")
+    cs, ve = s.attribute("ManipulatorAgent", "cs"), s.attribute("ManipulatorAgent", "motorControllerK/ve")
+    ends = ((cs, s.attribute("ManipulatorControl", "motorControllerCommandK/ob")),
+            (ve, s.attribute("MotorController", "motorControllerCommand/ib")))
+    connector = s.connect("PickAndPlaceSystem", "manip/a,manip/a", *ends, stereotype="InterAgentLink")
+    for end, (part, _) in zip(connector.xpath("end"), ends):
+        blocks = s.root.nsmap["Blocks"]
+        etree.SubElement(s.root, f"{{{blocks}}}NestedConnectorEnd",
+                         {XMI_ID: s.new_id(), "base_ConnectorEnd": s.id(end),
+                          "propertyPath": " ".join(s.id(p) for p in (robot, manip, part))})
+    assert connector.getparent() is system
+    return Expect(s.id(connector), "manip/a,manip/a")
+
+
+def real_effector_unreached(s: Sample) -> Expect:
+    """C004: grip/a's cs no longer commands its virtual effector: the link
+    cs,fingerController/ve is deleted with the ve's motorControllerCommand/ib and the
+    regulateFinger/pf parameter reading it. fingerMotor/re is still fed by
+    fingerController/ve, but no chain cs → ve → re reaches it."""
+    s.remove(s.connector("GripperAgent", "cs,fingerController/ve"))
+    s.remove(s.attribute("FingerController", "motorControllerCommand/ib"))
+    s.remove(s.parameter("FingerController", "regulateFinger/pf", "motorControllerCommand/ib"))
+    return Expect(s.id(s.attribute("GripperAgent", "fingerMotor/re")), "fingerMotor/re")
+
+
+def real_receptor_unheard(s: Sample) -> Expect:
+    """C005 (small model): task/a's Real Receptor camera/rr feeds the Virtual Receptor
+    filter/vr, whose output reaches no control subsystem."""
+    mini = Mini()
+    vr = mini.subsystem("Filter", "vr", ("raw",), ("filtered",))
+    rr = mini.subsystem("Camera", "rr", (), ("raw",))
+    task = mini.task((), (), {"filter/vr": vr, "camera/rr": rr})
+    mini.link(task, "camera/rr.raw/ob", "filter/vr.raw/ib")
+    s.replace(mini.to_bytes())
+    return Expect(task.parts["camera/rr"].id, "camera/rr")
+
+
+def link_datatype_mismatch(s: Sample) -> Expect:
+    """C006: motorControllerK/ve's Output Buffer desiredCurrent/ob is retyped to
+    GripperStatus; the link motorControllerK/ve,motorK/re still ends in motorK/re's
+    desiredCurrent/ib of type MotorCurrent. (The message names the link's first instance.)"""
+    port = s.attribute("MotorController", "desiredCurrent/ob")
+    port.set("type", s.id(s.datatype("GripperStatus")))
+    connector = s.connector("ManipulatorAgent", "motorControllerK/ve,motorK/re")
+    return Expect(s.id(connector), "motorController1/ve,motor1/re")
+
+
+def input_buffer_unfed(s: Sample) -> Expect:
+    """C007: TaskControl gets a new Input Buffer operatorCommand/ib (a «InputBuffer» port
+    typed by ManipulatorCommand) that no link feeds."""
+    last_port = s.attribute("TaskControl", "gripperStatus/ib")
+    port = s.add(s.block("TaskControl"), "ownedAttribute", "uml:Port", after=last_port, name="operatorCommand/ib",
+                 type=s.id(s.datatype("ManipulatorCommand")), aggregation="composite")
+    s.apply("InputBuffer", "Port", port)
+    return Expect(s.id(port), "operatorCommand/ib")
+
+
+def link_name_convention(s: Sample) -> Expect:
+    """C008: the inter-agent link task/a,grip/a is renamed gripperCommand instead of the
+    paper's ``source,destination`` form."""
+    connector = s.connector("PickAndPlaceSystem", "task/a,grip/a")
+    connector.set("name", "gripperCommand")
+    return Expect(s.id(connector), "gripperCommand")
+
+
+# ---- B: FSMs and conditions -------------------------------------------------------------
+
+
+def fsm_without_initial_state(s: Sample) -> Expect:
+    """B001: ManipulatorControl's state machine loses its initial pseudostate and the
+    transition leaving it: the FSM has no initial state."""
+    pseudostate = s.initial_pseudostate("ManipulatorControl")
+    s.remove(s.transition_from("ManipulatorControl", pseudostate))
+    s.remove(pseudostate)
+    return Expect(s.id(s.state_machine("ManipulatorControl")), "manip/a.cs.fsm")
+
+
+def initial_pseudostate_leads_nowhere(s: Sample) -> Expect:
+    """B001: ManipulatorControl's initial pseudostate stays but the transition leaving it
+    (to idle) is deleted: the initial state is nowhere."""
+    s.remove(s.transition_from("ManipulatorControl", s.initial_pseudostate("ManipulatorControl")))
+    return Expect(s.id(s.state_machine("ManipulatorControl")), "manip/a.cs.fsm")
+
+
+def fsm_with_two_initial_states(s: Sample) -> Expect:
+    """B001: ManipulatorControl's region gets a second initial pseudostate whose transition
+    leads to emergencyStop: two initial states (idle, emergencyStop)."""
+    region = s.region("ManipulatorControl")
+    first = s.initial_pseudostate("ManipulatorControl")
+    pseudostate = s.add(region, "subvertex", "uml:Pseudostate", after=first)
+    s.add(region, "transition", "uml:Transition", after=s.transition_from("ManipulatorControl", first),
+          source=s.id(pseudostate), target=s.id(s.state("ManipulatorControl", "emergencyStop")))
+    return Expect(s.id(s.state_machine("ManipulatorControl")), "manip/a.cs.fsm")
+
+
+def subsystem_without_fsm(s: Sample) -> Expect:
+    """B001: FingerMotor (grip/a's Real Effector fingerMotor/re) loses its state machine
+    (the classifier behaviour, with its states and basic behaviours)."""
+    block = s.block("FingerMotor")
+    s.remove(s.state_machine("FingerMotor"))
+    del block.attrib["classifierBehavior"]
+    return Expect(s.id(s.attribute("GripperAgent", "fingerMotor/re")), "fingerMotor/re")
+
+
+def subsystem_with_two_fsms(s: Sample) -> Expect:
+    """B001: FingerMotor owns a second, empty state machine fsm2 next to its FSM."""
+    fsm = s.state_machine("FingerMotor")
+    extra = s.add(s.block("FingerMotor"), "ownedBehavior", "uml:StateMachine", after=fsm, name="fsm2")
+    s.add(extra, "region", "uml:Region", name="Region1")
+    return Expect(s.id(fsm), "grip/a.fingerMotor/re")
+
+
+def state_without_basic_behaviour(s: Sample) -> Expect:
+    """B002: TaskControl's state abort loses its doActivity (its basic behaviour abort/bb)."""
+    s.remove(s.activity("TaskControl", "abort"))
+    return Expect(s.id(s.state("TaskControl", "abort")), "abort")
+
+
+def transition_to_another_fsm(s: Sample) -> Expect:
+    """B003: TaskControl's FSM gets a transition abort,idle/t whose destination is the state
+    idle of ManipulatorControl's FSM."""
+    region = s.region("TaskControl")
+    last = region.xpath("transition")[-1]
+    transition = s.add(region, "transition", "uml:Transition", after=last, name="abort,idle/t",
+                       source=s.id(s.state("TaskControl", "abort")),
+                       target=s.id(s.state("ManipulatorControl", "idle")))
+    return Expect(s.id(transition), "abort,idle/t")
+
+
+def unreachable_state(s: Sample) -> Expect:
+    """B004: the transition idle,operationalMove/t of ManipulatorControl is deleted, so no
+    transition leads to the state operationalMove any more."""
+    s.remove(s.transition("ManipulatorControl", "idle,operationalMove/t"))
+    return Expect(s.id(s.state("ManipulatorControl", "operationalMove")), "operationalMove")
+
+
+def guard_names_unknown_predicate(s: Sample) -> Expect:
+    """B005: the initial condition of idle,jointMove/t names newJointPosition/pp, which is no
+    primitive predicate of ManipulatorControl (it has newJointPos/pp)."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "newJointPosition/pp.fun ∧ ¬emergencyStop/pp.fun"
+    return Expect(s.id(body.getparent()), "idle,jointMove/t")
+
+
+def predicate_names_unknown_field(s: Sample) -> Expect:
+    """B005: the body of the primitive predicate newJointPos/pp reads a field jointSetpoint
+    that ManipulatorCommand does not have (it has jointPosSetpoint)."""
+    pp = s.behavior("ManipulatorControl", "newJointPos/pp")
+    pp.find("body").text = "newData(manipulatorCommand/ib.msg.jointSetpoint)"
+    return Expect(s.id(pp), "newJointPos/pp")
+
+
+def guard_syntax_error(s: Sample) -> Expect:
+    """B008: the initial condition of idle,jointMove/t has a doubled operator
+    (``newJointPos/pp.fun ∧ ∧ ¬emergencyStop/pp.fun``) and does not parse."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "newJointPos/pp.fun ∧ ∧ ¬emergencyStop/pp.fun"
+    return Expect(s.id(body.getparent()), "idle,jointMove/t")
+
+
+def empty_terminal_condition(s: Sample) -> Expect:
+    """B008: the terminal condition tc of TaskControl's supervise/bb has an empty body."""
+    tc = s._find(s.activity("TaskControl", "supervise"), 'ownedRule[@name="tc"]/specification', "tc")
+    tc.find("body").text = ""
+    return Expect(s.id(tc), "supervise/bb")
+
+
+# ---- T: transition functions ------------------------------------------------------------
+
+
+def _add_parameter(s: Sample, block: str, pf: str, name: str, direction: str, like: str) -> etree._Element:
+    """A new parameter ``name`` of ``pf``, a copy of the parameter ``like`` (type, multiplicity)."""
+    template = s.parameter(block, pf, like) if "/" in like else None
+    parameters = s.behavior(block, pf).xpath("ownedParameter")
+    param = copy.deepcopy(template) if template is not None else etree.Element("ownedParameter")
+    for el in param.iter():
+        if el.get(XMI_ID):
+            el.set(XMI_ID, s.new_id())
+    param.set(XMI_TYPE, "uml:Parameter")
+    param.set("name", name)
+    if direction == "in":
+        param.attrib.pop("direction", None)
+    else:
+        param.set("direction", direction)
+    parameters[-1].addnext(param)
+    return param
+
+
+def stage_memory_write_conflict(s: Sample) -> Expect:
+    """T001: calculatePosition/pf also writes the memory motionFinished (new out parameter
+    motionFinished/mo); in jointMove/bb it runs in stage 1 next to jointMove/pf, which
+    writes motionFinished too."""
+    _add_parameter(s, "ManipulatorControl", "calculatePosition/pf", "motionFinished/mo", "out",
+                   like="motionFinished/mo" if False else "currentJointPos/mo")
+    return Expect(s.id(s.activity("ManipulatorControl", "jointMove")), "jointMove/bb")
+
+
+def stage_output_write_conflict(s: Sample) -> Expect:
+    """T002: outputManipState/pf also writes the Output Buffer motorControllerCommandK/ob (a
+    new out parameter); in every basic behaviour it runs in stage 2 next to outputMotorCon/pf,
+    which writes it too."""
+    _add_parameter(s, "ManipulatorControl", "outputManipState/pf", "motorControllerCommandK/ob", "out",
+                   like="manipulatorState/ob")
+    return Expect(s.id(s.activity("ManipulatorControl", "idle")), "idle/bb")
+
+
+def pf_reads_foreign_buffer(s: Sample) -> Expect:
+    """T003: calculatePosition/pf of manip/a's cs gets a parameter
+    motorControllerK/ve.encoder/ib: it reads an Input Buffer of another subsystem."""
+    param = _add_parameter(s, "ManipulatorControl", "calculatePosition/pf", "motorControllerK/ve.encoder/ib", "in",
+                           like="motorControllerStateK/ib")
+    return Expect(s.id(param), "calculatePosition/pf")
+
+
+def pf_reads_unknown_storage(s: Sample) -> Expect:
+    """T003: calculatePosition/pf gets a parameter motorPosition/ib, which names no buffer or
+    memory of manip/a's cs."""
+    param = _add_parameter(s, "ManipulatorControl", "calculatePosition/pf", "motorPosition/ib", "in",
+                           like="motorControllerStateK/ib")
+    return Expect(s.id(param), "motorPosition/ib")
+
+
+def tf_calls_unknown_pf(s: Sample) -> Expect:
+    """T005: the call action of TaskControl's abort/bb calls regulateMotor/pf, a partial
+    transition function of MotorController, not of task/a's cs."""
+    activity = s.activity("TaskControl", "abort")
+    s.node(activity, "holdCommands/pf").set("behavior", s.id(s.behavior("MotorController", "regulateMotor/pf")))
+    return Expect(s.id(activity), "abort/bb")
+
+
+def tf_unbalanced_fork_join(s: Sample) -> Expect:
+    """T005: ManipulatorControl's idle/bb loses JoinNode2: both branches of the second
+    parallel stage flow straight into the final node (two forks, one join)."""
+    activity = s.activity("ManipulatorControl", "idle")
+    join, final = s.node(activity, "JoinNode2"), s.node(activity, "ActivityFinalNode1")
+    for edge in activity.xpath("edge[@target=$j]", j=s.id(join)):
+        edge.set("target", s.id(final))
+    s.remove(s._find(activity, "edge[@source=$j]", "join → final", j=s.id(join)))
+    final.set("incoming", " ".join(e.get(XMI_ID) for e in activity.xpath("edge[@target=$f]", f=s.id(final))))
+    _remove_ref(activity, "node", s.id(join))
+    s.remove(join)
+    return Expect(s.id(activity), "idle/bb")
+
+
+def tf_cycle(s: Sample) -> Expect:
+    """T005: ManipulatorControl's idle/bb gets a control flow from JoinNode2 back to
+    ForkNode1: the transition function's flow has a cycle."""
+    activity = s.activity("ManipulatorControl", "idle")
+    s.flow(activity, s.node(activity, "JoinNode2"), s.node(activity, "ForkNode1"))
+    return Expect(s.id(activity), "idle/bb")
+
+
+# ---- D: dataTypes and names -------------------------------------------------------------
+
+
+def memory_of_unknown_type(s: Sample) -> Expect:
+    """D001: FingerController's memory desiredPosition/m is typed by Torque of a library
+    that is not part of the model (an href that cannot be resolved)."""
+    memory = s.attribute("FingerController", "desiredPosition/m")
+    memory.find("type").set("href", "pathmap://ROBOT_LIBRARIES/Units.library.uml#Torque")
+    return Expect(s.id(memory), "desiredPosition/m")
+
+
+def field_of_unknown_type(s: Sample) -> Expect:
+    """D001: the field x of the dataType Vector3 refers to an element id the file does not hold."""
+    x = s.attribute("Vector3", "x")
+    x.remove(x.find("type"))
+    x.set("type", "_deletedDataTypeId")
+    return Expect(s.id(x), "Vector3.x")
+
+
+def recursive_datatype(s: Sample) -> Expect:
+    """D002: the dataType Vector3 gets a field origin of type Vector3 (contains itself by value)."""
+    vector = s.datatype("Vector3")
+    s.add(vector, "ownedAttribute", "uml:Property", name="origin", type=s.id(vector))
+    return Expect(s.id(vector), "Vector3")
+
+
+def name_not_identifier(s: Sample) -> Expect:
+    """D003: FingerController's memory desiredPosition/m is renamed desired-position/m."""
+    memory = s.attribute("FingerController", "desiredPosition/m")
+    memory.set("name", "desired-position/m")
+    return Expect(s.id(memory), "desired-position/m")
+
+
+def memory_names_differ_in_case(s: Sample) -> Expect:
+    """D004: FingerController gets a memory IntegralError/m right after integralError/m;
+    the two differ only in case and map to one identifier."""
+    original = s.attribute("FingerController", "integralError/m")
+    memory = copy.deepcopy(original)
+    for el in memory.iter():
+        if el.get(XMI_ID):
+            el.set(XMI_ID, s.new_id())
+    memory.set("name", "IntegralError/m")
+    original.addnext(memory)
+    s.apply("InternalMemory", "Property", memory)
+    return Expect(s.id(memory), "IntegralError/m")
+
+
+def datatype_names_differ_in_case(s: Sample) -> Expect:
+    """D004: the dataType EncoderReading is renamed motorCurrent, next to MotorCurrent: the
+    two generated message files differ only in case."""
+    datatype = s.datatype("EncoderReading")
+    datatype.set("name", "motorCurrent")
+    return Expect(s.id(datatype), "motorCurrent")
+
+
+# ---- R: reading and recognition ---------------------------------------------------------
+
+
+def part_name_contradicts_block(s: Sample) -> Expect:
+    """R001: grip/a's part fingerMotor/re (typed by the «RealEffector» block FingerMotor) is
+    renamed fingerMotor/ve, its two links renamed to match: the part's suffix says Virtual
+    Effector, the block's stereotype Real Effector."""
+    part = s.attribute("GripperAgent", "fingerMotor/re")
+    part.set("name", "fingerMotor/ve")
+    for connector in s.block("GripperAgent").xpath("ownedConnector"):
+        connector.set("name", connector.get("name").replace("fingerMotor/re", "fingerMotor/ve"))
+    return Expect(s.id(part), "FingerMotor")
+
+
+def block_suffix_contradicts_stereotype(s: Sample) -> Expect:
+    """R001: the «VirtualEffector» block FingerController is renamed FingerController/re,
+    whose suffix says Real Effector (the modelling guide's own example)."""
+    block = s.block("FingerController")
+    block.set("name", "FingerController/re")
+    return Expect(s.id(block), "FingerController/re")
+
+
+def duplicate_xmi_id(s: Sample) -> Expect:
+    """R002: a second comment of the model carries the xmi:id of the model's first comment."""
+    model = s._find(s.root, "uml:Model", "model")
+    comment = model.find("ownedComment")
+    duplicate = copy.deepcopy(comment)
+    duplicate.find("body").text = "A copy pasted from another model, id and all."
+    model.xpath("packagedElement")[-1].addnext(duplicate)
+    return Expect(s.id(duplicate), s.id(duplicate))
+
+
+def no_earl_model(s: Sample) -> Expect:
+    """R003: the SystemInstance package is deleted (with every EARL stereotype applied in it):
+    the file is a library of dataTypes, no EARL model."""
+    s.remove(s._find(s.root, '//packagedElement[@xmi:type="uml:Package"][@name="SystemInstance"]', "package"))
+    assert not [a for a in s.stereotype_applications() if etree.QName(a).namespace == s.root.nsmap["EARL"]]
+    return Expect(line=1, name="{file}")
+
+
+# ---- the table --------------------------------------------------------------------------
+
+Mutation = Callable[[Sample], Expect]
+
+VARIANTS: dict[str, Mutation] = {
+    "S001": system_without_robot,
+    "S002": robot_without_agent,
+    "S003": agent_with_two_control_subsystems,
+    "S004": virtual_receptor_without_real_receptor,
+    "S005": virtual_effector_without_real_effector,
+    "S006": zombie_agent,
+    "S007": declared_type_mismatch,
+    "S008": virtual_effector_without_output,
+    "S009": untyped_memory,
+    "C001": link_between_two_outputs,
+    "C001-two-inputs": link_between_two_inputs,
+    "C001-memory-end": link_to_a_memory,
+    "C002": link_control_to_real_effector,
+    "C003": inter_agent_link_inside_one_agent,
+    "C004": real_effector_unreached,
+    "C005": real_receptor_unheard,
+    "C006": link_datatype_mismatch,
+    "C007": input_buffer_unfed,
+    "C008": link_name_convention,
+    "B001": fsm_without_initial_state,
+    "B001-initial-leads-nowhere": initial_pseudostate_leads_nowhere,
+    "B001-two-initial": fsm_with_two_initial_states,
+    "B001-no-fsm": subsystem_without_fsm,
+    "B001-two-fsms": subsystem_with_two_fsms,
+    "B002": state_without_basic_behaviour,
+    "B003": transition_to_another_fsm,
+    "B004": unreachable_state,
+    "B005": guard_names_unknown_predicate,
+    "B005-unknown-field": predicate_names_unknown_field,
+    "B008": guard_syntax_error,
+    "B008-empty-tc": empty_terminal_condition,
+    "T001": stage_memory_write_conflict,
+    "T002": stage_output_write_conflict,
+    "T003": pf_reads_foreign_buffer,
+    "T003-unknown-storage": pf_reads_unknown_storage,
+    "T005": tf_calls_unknown_pf,
+    "T005-unbalanced": tf_unbalanced_fork_join,
+    "T005-cycle": tf_cycle,
+    "D001": memory_of_unknown_type,
+    "D001-field": field_of_unknown_type,
+    "D002": recursive_datatype,
+    "D003": name_not_identifier,
+    "D004": memory_names_differ_in_case,
+    "D004-datatype-case": datatype_names_differ_in_case,
+    "R001": part_name_contradicts_block,
+    "R001-block-suffix": block_suffix_contradicts_stereotype,
+    "R002": duplicate_xmi_id,
+    "R003": no_earl_model,
+}
+
+# Rows that expose a defect of earl-m2t rather than of the variant.
+KNOWN_BUGS: dict[str, str] = {}
+
+
+def _params() -> list:
+    params = []
+    for variant, mutation in VARIANTS.items():
+        marks = [pytest.mark.xfail(strict=True, reason=KNOWN_BUGS[variant])] if variant in KNOWN_BUGS else []
+        params.append(pytest.param(variant, mutation, id=variant, marks=marks))
+    return params
+
+
+def _code(variant: str) -> str:
+    return variant.partition("-")[0]
+
+
+def _describe(findings: list[Diagnostic]) -> str:
+    return "\n".join(f"  {d.code} {d.location.line}:{d.location.xmi_id} {d.message}" for d in findings) or "  (none)"
+
+
+def _line_of(path: Path, xmi_id: str) -> int:
+    root = etree.parse(str(path)).getroot()
+    found = root.xpath("//*[@xmi:id=$i]", namespaces=NS, i=xmi_id)
+    assert found, f"{xmi_id} is not in the variant"
+    return found[0].sourceline
+
+
+# ---- tests ------------------------------------------------------------------------------
+
+
+def test_every_catalogue_rule_has_a_variant() -> None:
+    codes = set(catalogue())
+    covered = {_code(v) for v in VARIANTS}
+    assert codes - covered == set(), "rules without a broken variant"
+    assert covered - codes == set(), "variants of rules that are not in the catalogue"
+
+
+def test_every_mutation_says_what_it_breaks() -> None:
+    for variant, mutation in VARIANTS.items():
+        doc = (mutation.__doc__ or "").strip()
+        assert doc.startswith(_code(variant)), f"{mutation.__name__}: docstring must start with {_code(variant)}"
+
+
+def test_small_model_base_is_clean(tmp_path: Path) -> None:
+    path = tmp_path / "mini.uml"
+    path.write_bytes(mini_base().to_bytes())
+    findings = check(path)
+    assert findings == [], _describe(findings)
+
+
+@pytest.mark.parametrize(("variant", "mutation"), _params())
+def test_variant_triggers_exactly_its_rule(variant: str, mutation: Mutation, sample_bytes: bytes,
+                                           tmp_path: Path) -> None:
+    code = _code(variant)
+    sample = Sample(sample_bytes)
+    expect = mutation(sample)
+    path = tmp_path / "variant.uml"
+    path.write_bytes(sample.to_bytes())
+
+    findings = check(path)
+
+    assert findings, f"{variant}: no finding"
+    assert {d.code for d in findings} == {code}, f"{variant}: expected only {code}, got\n{_describe(findings)}"
+    assert all(d.location.file == str(path) for d in findings)
+    line = expect.line or _line_of(path, expect.xmi_id)
+    pointing = [d for d in findings if d.location.line > 0
+                and ((expect.xmi_id and d.location.xmi_id == expect.xmi_id) or d.location.line == line)]
+    assert pointing, f"{variant}: no finding points at {expect.xmi_id or 'line'} (line {line}):\n{_describe(findings)}"
+    name = expect.name.format(file=path)
+    assert any(name in d.message for d in pointing), (
+        f"{variant}: no finding at the element names {name!r}:\n{_describe(pointing)}"
+    )
