@@ -102,7 +102,9 @@ class BehaviourLifter:
     def _access(self, param: Element) -> Access:
         direction = param.get("direction") or "in"
         name = self.raw.name(param).strip()
-        mode = {"in": "read", "out": "write", "inout": "readwrite"}.get(direction, "read")
+        # the paper's mi / mo names say the access themselves; otherwise the direction does
+        mode = MEMORY_ACCESS_SUFFIXES.get(name.rpartition("/")[2] if "/" in name else "") or {
+            "in": "read", "out": "write", "inout": "readwrite"}.get(direction, "read")
         foreign = ""
         local = name
         if "." in name:
@@ -254,8 +256,8 @@ class BehaviourLifter:
     def _state_behaviours(self, state: Element, state_name: str) -> list[BasicBehaviour]:
         found = []
         for activity in self.raw.children(state, "doActivity"):
-            target = self._called_basic_behaviour(activity) or activity
-            found.append(self.basic_behaviour(target, state_name))
+            called = self._called_basic_behaviour(activity)
+            found.append(self.basic_behaviour(called if called is not None else activity, state_name))
         return found
 
     def _called_basic_behaviour(self, activity: Element) -> Element | None:

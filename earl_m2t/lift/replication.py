@@ -40,11 +40,6 @@ def instance_count(lower: int, upper: int | None) -> int:
     return 1
 
 
-def has_placeholder(name: str) -> bool:
-    stem = name.rpartition("/")[0] if "/" in name else name
-    return stem.endswith(PLACEHOLDER)
-
-
 def instance_name(template: str, index: int) -> str:
     """``motorControllerK/ve``, 3 → ``motorController3/ve``; without K the index is appended."""
     if "/" in template:
@@ -62,11 +57,3 @@ def expand(template: str, count: int) -> list[tuple[str, int]]:
     if count <= 1:
         return [(template, 0)]
     return [(instance_name(template, k), k) for k in range(1, count + 1)]
-
-
-def substitute_link_name(template: str, index: int) -> str:
-    """Substitute the index into each replicated part of a link name ``cs,motorControllerK/ve``."""
-    if index == 0:
-        return template
-    parts = [instance_name(p, index) if has_placeholder(p) else p for p in template.split(",")]
-    return ",".join(parts)

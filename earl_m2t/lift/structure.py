@@ -8,7 +8,7 @@ from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser
-from earl_m2t.lift.replication import expand, instance_count, multiplicity, substitute_link_name
+from earl_m2t.lift.replication import expand, instance_count, multiplicity
 from earl_m2t.model.elements import Agent, Buffer, Link, Memory, Robot, Subsystem, System
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
@@ -45,6 +45,7 @@ class StructureLifter:
         self.diagnostics: list[Diagnostic] = []
         self.recognised_anything = False
         self._outputs: set[str] = set()  # paths of every Output Buffer lifted so far
+        self._templates: dict[str, tuple[str, str]] = {}  # instance path -> (template, instance name)
 
     # -- helpers -----------------------------------------------------------------------------
     def _note(self, code: str, severity: Severity, message: str, el: Element, element: str = "") -> None:
@@ -55,7 +56,10 @@ class StructureLifter:
         if recognition.concept:
             self.recognised_anything = True
         if recognition.conflict:
-            self._note("R001", Severity.WARNING, f"conflicting EARL evidence: {recognition.conflict}", el, path)
+            element = path or self.raw.name(el)
+            self._note("R001", Severity.WARNING,
+                       f"{self.raw.uml_type(el).lower() or 'element'} '{self.raw.name(el)}': conflicting EARL "
+                       f"evidence: {recognition.conflict}", el, element)
         return recognition
 
     def _parts(self, block: Element) -> list[tuple[Element, Element]]:
@@ -77,8 +81,9 @@ class StructureLifter:
             by_part = self.recogniser.by_suffix(self.raw.name(part))
             if by_part and not self.recogniser.compatible(by_block.concept, by_part):
                 self._note("R001", Severity.WARNING,
-                           f"conflicting EARL evidence: block {self.raw.name(block)} is {by_block.concept} but the part name says {by_part}",
-                           part, path)
+                           f"part '{self.raw.name(part)}': conflicting EARL evidence: its block "
+                           f"{self.raw.name(block)} is {by_block.concept} but the part name says {by_part}",
+                           part, f"{path}.{self.raw.name(part)}" if path else self.raw.name(part))
             return by_block.concept, by_block.route
         by_part = self.recogniser.by_suffix(self.raw.name(part))
         if by_part:
@@ -160,6 +165,7 @@ class StructureLifter:
 
     def _agent(self, name: str, part: Element, block: Element, robot: str, robot_part: Element | None) -> _AgentInstance:
         path = name
+        self._templates[path] = (self.raw.name(part), name)
         subsystem_parts = []
         for sub_part, sub_block in self._parts(block):
             concept, route = self._part_concept(sub_part, sub_block, path)
@@ -239,6 +245,7 @@ class StructureLifter:
             tuple(inputs), tuple(outputs), tuple(memory), fsm, tuple(unique), lifter.functions(block),
             lifter.predicates(block), lifter.exclusions(block), len(machines), raw.location(part), route,
         )
+        self._templates[path] = (raw.name(part), name)
         return _SubsystemInstance(subsystem, part, ports)
 
     # -- links -------------------------------------------------------------------------------
@@ -333,7 +340,7 @@ class StructureLifter:
                 source, target = b, a
             else:
                 source, target = "", ""  # two outputs or two inputs: rule C001
-            instance = substitute_link_name(name, k if replicated else 0) if name else ""
+            instance = self._instance_link_name(name, (a, b), scope) if name and replicated else name
             display = instance or f"{_subsystem_name(source or a, prefix)},{_subsystem_name(target or b, prefix)}"
             links.append(Link(instance, f"{owner}.{display}" if scope == "agent" else display, (a, b),
                               source, target, scope, owner, name, location))
@@ -341,6 +348,17 @@ class StructureLifter:
 
     def _is_output(self, buffer_path: str) -> bool:
         return buffer_path in self._outputs
+
+    def _instance_link_name(self, template: str, ends: tuple[str, str], scope: str) -> str:
+        """``cs,motorControllerK/ve`` → ``cs,motorController3/ve``: each part naming a replicated
+        end's template becomes that instance's name."""
+        names: dict[str, str] = {}
+        for end in ends:
+            owner = end.split(".")[0] if scope == "system" else ".".join(end.split(".")[:2])
+            if owner in self._templates:
+                part_template, instance = self._templates[owner]
+                names.setdefault(part_template, instance)
+        return ",".join(names.get(part.strip(), part) for part in template.split(","))
 
     def _looks_like_link(self, connector: Element) -> bool:
         """A connector meant as an EARL link: stereotyped as one, or joining ports."""

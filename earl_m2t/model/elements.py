@@ -29,7 +29,8 @@ class Field:
 
     @property
     def is_array(self) -> bool:
-        return self.upper is None or self.upper > 1
+        """Fixed ``[n]`` or variable (``[*]``, ``[0..n]``, optional ``[0..1]``) array."""
+        return self.upper is None or self.upper > 1 or self.lower != self.upper
 
     @property
     def is_fixed_array(self) -> bool:

@@ -304,8 +304,10 @@ def _index_subtree(
                 Diagnostic(
                     "R002",
                     Severity.WARNING,
-                    f"duplicate xmi:id '{ref_id}' (first on line {by_id[ref_id].sourceline})",
+                    f"duplicate xmi:id '{ref_id}' on <{el.tag}> '{el.get('name') or ''}' "
+                    f"(first used on line {by_id[ref_id].sourceline})",
                     Location(file, el.sourceline or 0, 0, ref_id),
+                    el.get("name") or ref_id,
                 )
             )
             continue

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import copy
 import sys
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -49,8 +50,10 @@ NS = {"xmi": XMI, "uml": UML}
 class Expect:
     """Where a finding of the variant must point, and what its message must name.
 
-    ``xmi_id`` is the element the rule reports (a finding matches by that id or by the
-    element's line in the written variant); ``line`` is used instead for file-level
+    ``xmi_id`` is the broken element as the rule reports it: the changed element itself, or
+    the one the change breaks (the link whose end was retyped, the basic behaviour whose
+    stage now conflicts, the agent whose structure changed). A finding matches by that id or
+    by the element's line in the written variant; ``line`` replaces both for file-level
     findings. ``name`` must occur in the message; ``{file}`` stands for the variant's path.
     """
 
@@ -194,10 +197,10 @@ class Sample:
     def connect(self, block: str, name: str, *ends: tuple[etree._Element, etree._Element],
                 stereotype: str = "InterSubsystemLink") -> etree._Element:
         """A connector of ``block`` between (part, port) ends, stereotyped like the sample's links."""
-        connector = self.add(self.block(block), "ownedConnector", "uml:Connector", name=name)
-        connector.addprevious(connector)  # keep it after the block's last connector
-        last = self.block(block).xpath("ownedConnector")[-2]
-        last.addnext(connector)
+        owner = self.block(block)
+        connectors = owner.xpath("ownedConnector")
+        connector = self.add(owner, "ownedConnector", "uml:Connector", after=connectors[-1] if connectors else None,
+                             name=name)
         for part, port in ends:
             self.add(connector, "end", "uml:ConnectorEnd", partWithPort=self.id(part), role=self.id(port))
         self.apply(stereotype, "Connector", connector)
@@ -263,7 +266,11 @@ class MiniAgent:
 class Mini:
     """A small system in the Papyrus dialect: robot ``mini/r`` holding ``task/a`` and
     ``peer/a``, whose control subsystems exchange ``command`` and ``status`` (both agents are
-    of type CT and the model checks clean). Variants add subsystems and links to ``task/a``."""
+    of type CT and the model checks clean). Variants add subsystems and links to ``task/a``.
+
+    Used where a mutation of the sample would drag in other rules: the sample has no
+    receptors, every buffer of it is linked (C007), each agent declares its type (S007) and
+    its dataTypes differ at every pair of subsystem kinds EARL does not permit (C006)."""
 
     def __init__(self) -> None:
         self.mb = ModelBuilder("Mini")
@@ -314,11 +321,10 @@ class Mini:
         cs = self.subsystem("TaskControl", "cs", ("status", *ins), ("command", *outs))
         task = self.agent("task/a", "TaskAgent", {"cs": cs, **(subsystems or {})})
         peer = self.agent("peer/a", "PeerAgent", {"cs": self.subsystem("PeerControl", "cs", ("command",), ("status",))})
-        for (src, dst, message) in ((task, peer, "command"), (peer, task, "status")):
-            src_name = next(n for n, a in self.agents.items() if a is src)
-            dst_name = next(n for n, a in self.agents.items() if a is dst)
+        for source, target, message in (("task/a", "peer/a", "command"), ("peer/a", "task/a", "status")):
+            src, dst = self.agents[source], self.agents[target]
             self.system.connector(
-                f"{src_name},{dst_name}",
+                f"{source},{target}",
                 self._end(src.parts["cs"], f"{message}/ob", self.robot_part, src.part),
                 self._end(dst.parts["cs"], f"{message}/ib", self.robot_part, dst.part),
                 "InterAgentLink",
@@ -484,8 +490,8 @@ def inter_agent_link_inside_one_agent(s: Sample) -> Expect:
     ends = ((cs, s.attribute("ManipulatorControl", "motorControllerCommandK/ob")),
             (ve, s.attribute("MotorController", "motorControllerCommand/ib")))
     connector = s.connect("PickAndPlaceSystem", "manip/a,manip/a", *ends, stereotype="InterAgentLink")
+    blocks = s.root.nsmap["Blocks"]
     for end, (part, _) in zip(connector.xpath("end"), ends):
-        blocks = s.root.nsmap["Blocks"]
         etree.SubElement(s.root, f"{{{blocks}}}NestedConnectorEnd",
                          {XMI_ID: s.new_id(), "base_ConnectorEnd": s.id(end),
                           "propertyPath": " ".join(s.id(p) for p in (robot, manip, part))})
@@ -649,21 +655,19 @@ def empty_terminal_condition(s: Sample) -> Expect:
 # ---- T: transition functions ------------------------------------------------------------
 
 
-def _add_parameter(s: Sample, block: str, pf: str, name: str, direction: str, like: str) -> etree._Element:
-    """A new parameter ``name`` of ``pf``, a copy of the parameter ``like`` (type, multiplicity)."""
-    template = s.parameter(block, pf, like) if "/" in like else None
-    parameters = s.behavior(block, pf).xpath("ownedParameter")
-    param = copy.deepcopy(template) if template is not None else etree.Element("ownedParameter")
+def _add_parameter(s: Sample, pf: etree._Element, name: str, direction: str, like: etree._Element) -> etree._Element:
+    """A new parameter ``name`` of ``pf``: a copy of the parameter ``like`` (its type and
+    multiplicity) with fresh ids, put after the pf's last parameter."""
+    param = copy.deepcopy(like)
     for el in param.iter():
         if el.get(XMI_ID):
             el.set(XMI_ID, s.new_id())
-    param.set(XMI_TYPE, "uml:Parameter")
     param.set("name", name)
     if direction == "in":
         param.attrib.pop("direction", None)
     else:
         param.set("direction", direction)
-    parameters[-1].addnext(param)
+    pf.xpath("ownedParameter")[-1].addnext(param)
     return param
 
 
@@ -671,8 +675,8 @@ def stage_memory_write_conflict(s: Sample) -> Expect:
     """T001: calculatePosition/pf also writes the memory motionFinished (new out parameter
     motionFinished/mo); in jointMove/bb it runs in stage 1 next to jointMove/pf, which
     writes motionFinished too."""
-    _add_parameter(s, "ManipulatorControl", "calculatePosition/pf", "motionFinished/mo", "out",
-                   like="motionFinished/mo" if False else "currentJointPos/mo")
+    _add_parameter(s, s.behavior("ManipulatorControl", "calculatePosition/pf"), "motionFinished/mo", "out",
+                   like=s.parameter("ManipulatorControl", "jointMove/pf", "motionFinished/mo"))
     return Expect(s.id(s.activity("ManipulatorControl", "jointMove")), "jointMove/bb")
 
 
@@ -680,24 +684,26 @@ def stage_output_write_conflict(s: Sample) -> Expect:
     """T002: outputManipState/pf also writes the Output Buffer motorControllerCommandK/ob (a
     new out parameter); in every basic behaviour it runs in stage 2 next to outputMotorCon/pf,
     which writes it too."""
-    _add_parameter(s, "ManipulatorControl", "outputManipState/pf", "motorControllerCommandK/ob", "out",
-                   like="manipulatorState/ob")
+    _add_parameter(s, s.behavior("ManipulatorControl", "outputManipState/pf"), "motorControllerCommandK/ob", "out",
+                   like=s.parameter("ManipulatorControl", "outputMotorCon/pf", "motorControllerCommandK/ob"))
     return Expect(s.id(s.activity("ManipulatorControl", "idle")), "idle/bb")
 
 
 def pf_reads_foreign_buffer(s: Sample) -> Expect:
     """T003: calculatePosition/pf of manip/a's cs gets a parameter
     motorControllerK/ve.encoder/ib: it reads an Input Buffer of another subsystem."""
-    param = _add_parameter(s, "ManipulatorControl", "calculatePosition/pf", "motorControllerK/ve.encoder/ib", "in",
-                           like="motorControllerStateK/ib")
+    pf = s.behavior("ManipulatorControl", "calculatePosition/pf")
+    param = _add_parameter(s, pf, "motorControllerK/ve.encoder/ib", "in",
+                           like=s.parameter("MotorController", "regulateMotor/pf", "encoder/ib"))
     return Expect(s.id(param), "calculatePosition/pf")
 
 
 def pf_reads_unknown_storage(s: Sample) -> Expect:
     """T003: calculatePosition/pf gets a parameter motorPosition/ib, which names no buffer or
     memory of manip/a's cs."""
-    param = _add_parameter(s, "ManipulatorControl", "calculatePosition/pf", "motorPosition/ib", "in",
-                           like="motorControllerStateK/ib")
+    pf = s.behavior("ManipulatorControl", "calculatePosition/pf")
+    param = _add_parameter(s, pf, "motorPosition/ib", "in",
+                           like=s.parameter("ManipulatorControl", "calculatePosition/pf", "motorControllerStateK/ib"))
     return Expect(s.id(param), "motorPosition/ib")
 
 
@@ -882,7 +888,8 @@ VARIANTS: dict[str, Mutation] = {
 }
 
 # Rows that expose a defect of earl-m2t rather than of the variant.
-KNOWN_BUGS: dict[str, str] = {}
+KNOWN_BUGS: dict[str, str] = {
+}
 
 
 def _params() -> list:
@@ -912,7 +919,8 @@ def _line_of(path: Path, xmi_id: str) -> int:
 
 
 def test_every_catalogue_rule_has_a_variant() -> None:
-    codes = set(catalogue())
+    listed = tomllib.loads((ROOT / "metamodel" / "rules" / "catalogue.toml").read_text(encoding="utf-8"))
+    codes = set(listed["rules"]) | set(catalogue())
     covered = {_code(v) for v in VARIANTS}
     assert codes - covered == set(), "rules without a broken variant"
     assert covered - codes == set(), "variants of rules that are not in the catalogue"

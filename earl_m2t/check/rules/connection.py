@@ -132,6 +132,6 @@ def link_name_convention(model: EarlModel) -> Iterator[Finding]:
         else:
             expected = f"{source.name},{target.name}"
         if link.name.replace(" ", "") != expected:
-            shown = f"'{link.name}'" if link.name else "no name"
-            yield Finding(f"link {link.path} has {shown}; by convention it is named '{expected}'",
-                          link.location, link.path)
+            shown = f"is named '{link.name}'" if link.name else "has no name"
+            yield Finding(f"the link {link.source} → {link.target} {shown}; by convention it is named "
+                          f"'{expected}'", link.location, link.path)

@@ -80,7 +80,9 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
         by_scope.setdefault((scope, collision_key(name)), []).append((name, path, location))
     for (_, key), items in by_scope.items():
         names = list(dict.fromkeys(name for name, _, _ in items))
-        if len(names) > 1 or len({location for _, _, location in items}) > 1:
-            _, path, location = items[1]
-            yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier '{key}'",
-                          location, path)
+        _, path, location = items[-1]
+        if len(names) > 1:
+            yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier or file "
+                          f"name '{key}'", location, path)
+        elif len({loc for _, _, loc in items}) > 1:
+            yield Finding(f"{path}: {len(items)} elements are named '{names[0]}'", location, path)
