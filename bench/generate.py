@@ -12,8 +12,9 @@ from run to run).
 The shape follows the reference sample ``samples/pick_and_place/pick_and_place.uml``:
 
 * a System block; agent 1 sits directly in it (like ``task/a``), the other agents sit in
-  Robot blocks of up to four agents (like ``manip/a`` and ``grip/a`` in ``pickAndPlace/r``);
-* every agent is like ``manip/a``: a control subsystem ``cs`` and ``S`` pairs of a virtual
+  Robot blocks of up to four agents (like ``manip/a`` and ``grip/a`` in ``pickAndPlace/r``;
+  a one-agent model puts its agent in a robot, since a System needs one);
+* every agent is like ``manip/a``: a control subsystem ``cs`` and ``S`` (``--subsystems``) pairs of a virtual
   effector ``jointNController/ve`` and a real effector ``jointNMotor/re``, linked
   ``cs ⇄ ve ⇄ re`` by four inter-subsystem links per pair;
 * agents form a supervision tree (fan-out 3); each supervisor's ``cs`` sends a command to
@@ -21,9 +22,12 @@ The shape follows the reference sample ``samples/pick_and_place/pick_and_place.u
   ``Blocks:NestedConnectorEnd`` property paths, like ``task/a ⇄ manip/a``);
 * every subsystem has its own block: buffers (ports), internal memory, primitive
   predicates in the EARL predicate language, partial transition functions with their
-  parameters and an FSM of ``B`` states (``idle``, ``B - 2`` modes, a stop state), each
-  with a basic behaviour (``tc``/``ec`` rules, a two-stage transition function of
-  fork/join calls) and guarded, prioritised transitions;
+  parameters and an FSM of ``B`` (``--behaviours``) states (``idle``, ``B - 2`` modes, a
+  stop state), each with a basic behaviour (``tc``/``ec`` rules, a two-stage transition
+  function of fork/join calls) and guarded, prioritised transitions; the control
+  subsystem also has a replicated memory (``jointTorqueK/m [S]``, read with ``any K:``)
+  and an exclusion of its mode predicates; some predicates compare with thresholds that
+  differ from subsystem to subsystem, so condition texts are not all alike;
 * dataTypes: a few shared message types plus three per agent (joint position, command,
   status).
 
@@ -39,6 +43,7 @@ import sys
 import time
 from collections import Counter
 from pathlib import Path
+from typing import Callable
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -50,6 +55,7 @@ from tests.support.papyrus_builder import (  # noqa: E402  (after the path set-u
     Block,
     End,
     ModelBuilder,
+    OpaqueBehavior,
 )
 
 DEFAULT_SUBSYSTEMS = 4  # ve/re pairs per agent in --target-mb mode
@@ -150,13 +156,13 @@ class _Generator:
         self,
         block: Block,
         modes: list[str],
-        triggers: list,
+        triggers: list[OpaqueBehavior],
         stop_state: str,
-        stop_pp,
-        done_pp,
+        stop_pp: OpaqueBehavior,
+        done_pp: OpaqueBehavior,
         stop_tc: str,
-        stage1: callable,
-        stage2: list,
+        stage1: Callable[[str], list[OpaqueBehavior]],
+        stage2: list[OpaqueBehavior],
         extra_done: str | None = None,
     ) -> None:
         """States idle, modes…, stop (``B`` in all), their basic behaviours and the transitions."""

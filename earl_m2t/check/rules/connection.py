@@ -72,15 +72,22 @@ def inter_agent_link_not_cs_to_cs(model: EarlModel) -> Iterator[Finding]:
                           "subsystems talk to other agents", link.location, link.path)
 
 
+def _has_chain(graph, start: str, agent: str, via: str, forward: bool) -> bool:
+    """Is there ``start → via → cs`` (forward) or ``cs → via → start`` (backward) inside one agent?"""
+    neighbours = graph.successors if forward else graph.predecessors
+    return any(
+        graph.nodes[middle]["kind"] == via and graph.nodes[middle]["agent"] == agent
+        and any(graph.nodes[end]["kind"] == "cs" for end in neighbours(middle))
+        for middle in neighbours(start)
+    )
+
+
 @rule("C004")
 def real_effector_unreached(model: EarlModel) -> Iterator[Finding]:
     graph = subsystem_graph(model)
     for agent in model.agents:
         for re in agent.re:
-            chains = [ve for ve in graph.predecessors(re.path)
-                      if graph.nodes[ve]["kind"] == "ve" and graph.nodes[ve]["agent"] == agent.path
-                      and any(graph.nodes[cs]["kind"] == "cs" for cs in graph.predecessors(ve))]
-            if not chains:
+            if not _has_chain(graph, re.path, agent.path, "ve", forward=False):
                 yield Finding(f"real effector {re.path} is not reached by a chain cs → ve → re", re.location, re.path)
 
 
@@ -89,10 +96,7 @@ def real_receptor_unheard(model: EarlModel) -> Iterator[Finding]:
     graph = subsystem_graph(model)
     for agent in model.agents:
         for rr in agent.rr:
-            chains = [vr for vr in graph.successors(rr.path)
-                      if graph.nodes[vr]["kind"] == "vr" and graph.nodes[vr]["agent"] == agent.path
-                      and any(graph.nodes[cs]["kind"] == "cs" for cs in graph.successors(vr))]
-            if not chains:
+            if not _has_chain(graph, rr.path, agent.path, "vr", forward=True):
                 yield Finding(f"real receptor {rr.path} does not reach the control subsystem by a chain "
                               "rr → vr → cs", rr.location, rr.path)
 
