@@ -1,5 +1,5 @@
 """``python -m earl_m2t`` runs the command line."""
 
-from earl_m2t.cli.app import main
+from earl_m2t.cli.app import entry
 
-raise SystemExit(main())
+entry()

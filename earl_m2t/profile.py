@@ -24,6 +24,7 @@ from types import MappingProxyType
 from typing import Any
 
 from earl_m2t import resources
+from earl_m2t.cache import cached
 from earl_m2t.sysml2 import (
     Sysml2SyntaxError,
     doc_text,
@@ -148,6 +149,9 @@ class Profile:
         index = {c.abbreviation: c for c in self.concepts.values() if c.abbreviation}
         object.__setattr__(self, "_by_abbreviation", MappingProxyType(index))
 
+    def __reduce__(self) -> tuple[type, tuple[dict[str, Concept], dict[str, tuple[str, ...]]]]:
+        return (Profile, (dict(self.concepts), dict(self.enums)))
+
     def by_abbreviation(self, abbr: str) -> Concept | None:
         """The concept whose abbreviation (short name) is ``abbr``: ``cs`` → ControlSubsystem."""
         return self._by_abbreviation.get(abbr)
@@ -217,7 +221,8 @@ def load_profile(path: Path | None = None) -> Profile:
 
 @cache
 def _default_profile() -> Profile:
-    return _load(resources.profile_path())
+    path = resources.profile_path()
+    return cached("profile", path, lambda: _load(path))
 
 
 def _load(path: Path) -> Profile:

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from functools import cache
 from typing import Iterable, Iterator
 
+from earl_m2t.cache import cached
 from earl_m2t.check.registry import Finding, RuleInfo, catalogue, python_rules
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
@@ -30,7 +31,7 @@ class CheckOptions:
 @cache
 def builtin_invariants() -> tuple[Invariant, ...]:
     path = metamodel_path("rules", "invariants.ocl")
-    return tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path)))
+    return cached("invariants", path, lambda: tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path))))
 
 
 def context_objects(model: EarlModel, context: str) -> Iterator[object]:

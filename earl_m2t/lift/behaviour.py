@@ -5,8 +5,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import networkx as nx
-
 from earl_m2t.lift.recognise import Recogniser, suffix_of
 from earl_m2t.model.elements import (
     Access,
@@ -296,12 +294,12 @@ class BehaviourLifter:
         nodes = [n for n in raw.children(activity, "node")]
         if not nodes:
             return (), problems
-        graph = nx.DiGraph()
+        successors: dict[int, list[int]] = {id(n): [] for n in nodes}
+        indegree: dict[int, int] = dict.fromkeys(successors, 0)
         owner_of: dict[int, Element] = {}
         kinds: dict[int, str] = {}
         for node in nodes:
             kinds[id(node)] = raw.uml_type(node)
-            graph.add_node(id(node))
             for feature in PIN_FEATURES:
                 for pin in raw.children(node, feature):
                     owner_of[id(pin)] = node
@@ -313,14 +311,12 @@ class BehaviourLifter:
             source = owner_of.get(id(source), source)
             target = owner_of.get(id(target), target)
             if id(source) in kinds and id(target) in kinds:
-                graph.add_edge(id(source), id(target))
+                successors[id(source)].append(id(target))
+                indegree[id(target)] += 1
         forks = sum(1 for k in kinds.values() if k == "ForkNode")
         joins = sum(1 for k in kinds.values() if k == "JoinNode")
         if forks != joins:
             problems.append(ActivityProblem(f"unbalanced fork/join ({forks} fork, {joins} join)", raw.location(activity)))
-        if not nx.is_directed_acyclic_graph(graph):
-            problems.append(ActivityProblem("the control flow has a cycle", raw.location(activity)))
-            return (), problems
         actions: dict[int, str] = {}
         for node in nodes:
             if kinds[id(node)] not in ACTION_TYPES:
@@ -333,18 +329,31 @@ class BehaviourLifter:
                     f"action '{raw.name(node)}' calls no partial transition function of this subsystem", raw.location(node)))
                 continue
             actions[id(node)] = pf
+        # longest path in pf calls (Kahn's order): an action's depth is its stage
+        depth = dict.fromkeys(successors, 0)
+        ready = [n for n, d in indegree.items() if d == 0]
+        remaining = dict(indegree)
+        ordered = 0
+        while ready:
+            current = ready.pop()
+            ordered += 1
+            step = depth[current] + (1 if current in actions else 0)
+            for nxt in successors[current]:
+                depth[nxt] = max(depth[nxt], step)
+                remaining[nxt] -= 1
+                if remaining[nxt] == 0:
+                    ready.append(nxt)
+        if ordered != len(successors):
+            problems.append(ActivityProblem("the control flow has a cycle", raw.location(activity)))
+            return (), problems
         initials = [n for n, k in kinds.items() if k == "InitialNode"]
         if actions and len(initials) != 1:
             problems.append(ActivityProblem(f"expected one initial node, found {len(initials)}", raw.location(activity)))
         elif initials:
-            reachable = nx.descendants(graph, initials[0])
+            reachable = _reachable(initials[0], successors)
             for node in nodes:
                 if id(node) in actions and id(node) not in reachable:
                     problems.append(ActivityProblem(f"action '{raw.name(node)}' is not reachable from the initial node", raw.location(node)))
-        depth: dict[int, int] = {}
-        for node_id in nx.topological_sort(graph):
-            before = [depth[p] + (1 if p in actions else 0) for p in graph.predecessors(node_id)]
-            depth[node_id] = max(before, default=0)
         by_stage: dict[int, list[str]] = {}
         for node in nodes:  # model order inside a stage
             if id(node) in actions:
@@ -360,6 +369,17 @@ class BehaviourLifter:
             return None
         name = self.raw.name(action)
         return name if suffix_of(name) == "pf" else None
+
+
+def _reachable(start: int, successors: dict[int, list[int]]) -> set[int]:
+    seen = {start}
+    stack = [start]
+    while stack:
+        for nxt in successors[stack.pop()]:
+            if nxt not in seen:
+                seen.add(nxt)
+                stack.append(nxt)
+    return seen
 
 
 def _stem(name: str) -> str:

@@ -41,7 +41,7 @@ class Recogniser:
     # -- the three routes --------------------------------------------------------------------
     def by_stereotype(self, el: Element) -> tuple[str, dict[str, str]]:
         for app in self.raw.applied(el):
-            if self.raw.table.is_earl(app.profile_uri):
+            if app.family == "earl":
                 concept = self._by_key.get(_key(app.name))
                 if concept:
                     return concept, app.tags

@@ -49,6 +49,10 @@ class CompiledExpression:
     root: ast.Node
     function: Fn = field(compare=False, repr=False)
 
+    def __reduce__(self) -> tuple[Callable[[ast.Node], CompiledExpression], tuple[ast.Node]]:
+        # closures do not pickle: a cached expression is compiled again from its tree
+        return (compile_expression, (self.root,))
+
 
 def compile_expression(root: ast.Node) -> CompiledExpression:
     return CompiledExpression(root, _compile(root))

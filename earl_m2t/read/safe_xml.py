@@ -19,6 +19,7 @@ def _parser() -> etree.XMLParser:
         huge_tree=True,  # real XMI files exceed libxml2's default depth and text limits
         remove_comments=True,
         remove_pis=True,
+        remove_blank_text=True,  # XMI whitespace between elements carries nothing; it costs memory
         collect_ids=False,
     )
 

@@ -24,6 +24,7 @@ from earl_m2t.resources import metamodel_path
 Element = etree._Element
 
 
+@cache
 def normalise_uri(uri: str) -> str:
     """Compare namespace URIs without scheme differences (http/https) or a trailing '/'."""
     uri = uri.strip()
@@ -45,6 +46,9 @@ class DialectTable:
     implicit_types: dict[str, str]
     titles: dict[str, str]
 
+    def __hash__(self) -> int:
+        return id(self)
+
     def is_uml(self, uri: str) -> bool:
         uri = normalise_uri(uri)
         if uri.startswith(normalise_uri(self.uml_eclipse_prefix)) and uri.endswith("/UML"):
@@ -60,6 +64,10 @@ class DialectTable:
     def is_earl(self, uri: str) -> bool:
         uri = normalise_uri(uri)
         return any(uri.startswith(normalise_uri(p)) for p in self.earl_prefixes)
+
+    def family(self, uri: str) -> str:
+        """Which profile a stereotype namespace belongs to: ``earl``, ``sysml`` or ``other``."""
+        return "earl" if self.is_earl(uri) else "sysml" if self.is_sysml(uri) else "other"
 
 
 @cache
@@ -97,10 +105,11 @@ class StereotypeApplication:
     """``<Profile:Stereotype base_X="id" tag="value"/>``, indexed by the extended element."""
 
     profile_uri: str
+    family: str  # "earl" | "sysml" | "other": which profile the namespace belongs to
     name: str
     base_id: str
     tags: dict[str, str]
-    element: Element
+    line: int
 
 
 @dataclass
@@ -192,7 +201,7 @@ class RawModel:
 
     def has_sysml(self, el: Element, name: str) -> bool:
         return any(
-            app.name.lower() == name.lower() and self.table.is_sysml(app.profile_uri)
+            app.family == "sysml" and app.name.lower() == name.lower()
             for app in self.applied(el)
         )
 
@@ -263,16 +272,20 @@ def index_tree(root: Element, file: str) -> RawModel:
     id_attr = f"{{{xmi_ns}}}id"
     ext_tag = f"{{{xmi_ns}}}Extension"
 
+    families: dict[str, str] = {}
     top_level = [root] if _namespace_of(root) == uml_ns else [c for c in root if isinstance(c.tag, str)]
     for top in top_level:
         top_uri = _namespace_of(top)
-        if top.tag == ext_tag or top_uri in table.xmi_uris or top_uri == xmi_ns:
+        if top.tag == ext_tag or normalise_uri(top_uri) in table.xmi_uris:
             continue
         if top_uri == uml_ns:
             model_roots.append(top)
             _index_subtree(top, id_attr, ext_tag, by_id, diagnostics, file)
         else:
-            app = _stereotype_application(top, top_uri, id_attr)
+            family = families.get(top_uri)
+            if family is None:
+                family = families[top_uri] = table.family(top_uri)
+            app = _stereotype_application(top, top_uri, family)
             if app is not None:
                 stereotypes.setdefault(app.base_id, []).append(app)
     if not model_roots:
@@ -314,7 +327,7 @@ def _index_subtree(
         by_id[ref_id] = el
 
 
-def _stereotype_application(el: Element, uri: str, id_attr: str) -> StereotypeApplication | None:
+def _stereotype_application(el: Element, uri: str, family: str) -> StereotypeApplication | None:
     base_id = ""
     tags: dict[str, str] = {}
     for key, value in el.attrib.items():
@@ -334,7 +347,7 @@ def _stereotype_application(el: Element, uri: str, id_attr: str) -> StereotypeAp
         if isinstance(child.tag, str) and not child.tag.startswith(("{", "base_")) and child.text:
             previous = tags.get(child.tag)
             tags[child.tag] = f"{previous} {child.text.strip()}" if previous else child.text.strip()
-    return StereotypeApplication(uri, etree.QName(el).localname, base_id, tags, el)
+    return StereotypeApplication(uri, family, etree.QName(el).localname, base_id, tags, el.sourceline or 0)
 
 
 def detect_dialect(root: Element, uml_ns: str, xmi_ns: str) -> str:

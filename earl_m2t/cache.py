@@ -1,0 +1,58 @@
+"""An on-disk cache for what earl-m2t derives from its own data files (the parsed profile,
+the compiled rule invariants), so a command does not re-parse them on every start.
+
+Entries are keyed by a hash of the source file, the earl-m2t version and the Python version;
+a stale or unreadable entry is rebuilt. The cache lives in ``$XDG_CACHE_HOME/earl-m2t``
+(``~/.cache/earl-m2t``); ``EARL_M2T_NO_CACHE=1`` turns it off. Failing to write it is not an
+error.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import pickle
+import sys
+import tempfile
+from pathlib import Path
+from typing import Callable, TypeVar
+
+T = TypeVar("T")
+
+
+def cache_dir() -> Path | None:
+    if os.environ.get("EARL_M2T_NO_CACHE"):
+        return None
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "earl-m2t"
+
+
+def _key(source: Path) -> str:
+    from earl_m2t import __version__
+
+    digest = hashlib.sha256(source.read_bytes())
+    digest.update(f"{__version__}|{sys.version_info[:3]}|{pickle.HIGHEST_PROTOCOL}".encode())
+    return digest.hexdigest()[:24]
+
+
+def cached(name: str, source: Path, build: Callable[[], T]) -> T:
+    """The value ``build()`` makes from ``source``, from the cache when it is up to date."""
+    directory = cache_dir()
+    if directory is None:
+        return build()
+    try:
+        entry = directory / f"{name}-{_key(source)}.pickle"
+        with open(entry, "rb") as stream:
+            return pickle.load(stream)  # noqa: S301 - the user's own cache, written below
+    except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError, TypeError):
+        pass
+    value = build()
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=directory, prefix=f".{name}-", suffix=".tmp")
+        with os.fdopen(handle, "wb") as stream:
+            pickle.dump(value, stream, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(temporary, entry)
+    except (OSError, pickle.PicklingError, TypeError, AttributeError):
+        pass
+    return value
