@@ -28,7 +28,7 @@ CONTROL_NODES = frozenset(
     {"InitialNode", "ActivityFinalNode", "FlowFinalNode", "ForkNode", "JoinNode", "MergeNode", "DecisionNode"}
 )
 ACTION_TYPES = frozenset({"CallBehaviorAction", "OpaqueAction", "CallOperationAction"})
-PIN_FEATURES = ("argument", "result", "inputValue", "outputValue")
+PIN_FEATURES = frozenset({"argument", "result", "inputValue", "outputValue"})
 MEMORY_ACCESS_SUFFIXES = {"m": "", "mi": "read", "mo": "write"}
 CONDITION_NAMES = {"tc": "tc", "terminalcondition": "tc", "ec": "ec", "errorcondition": "ec"}
 
@@ -300,8 +300,8 @@ class BehaviourLifter:
         kinds: dict[int, str] = {}
         for node in nodes:
             kinds[id(node)] = raw.uml_type(node)
-            for feature in PIN_FEATURES:
-                for pin in raw.children(node, feature):
+            for pin in node:  # one pass over the children instead of one per pin feature
+                if pin.tag in PIN_FEATURES:
                     owner_of[id(pin)] = node
         for edge in raw.children(activity, "edge"):
             source, target = raw.ref(edge, "source"), raw.ref(edge, "target")

@@ -127,9 +127,14 @@ class RawModel:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     table: DialectTable = field(default_factory=dialect_table)
 
+    def __post_init__(self) -> None:
+        self._id_attr = f"{{{self.xmi_ns}}}id"
+        self._idref_attr = f"{{{self.xmi_ns}}}idref"
+        self._type_attr = f"{{{self.xmi_ns}}}type"
+
     # -- identity and location -------------------------------------------------------------
     def xmi_id(self, el: Element) -> str:
-        return el.get(f"{{{self.xmi_ns}}}id") or ""
+        return el.get(self._id_attr) or ""
 
     def location(self, el: Element) -> Location:
         return Location(self.file, el.sourceline or 0, 0, self.xmi_id(el))
@@ -139,7 +144,7 @@ class RawModel:
 
     def uml_type(self, el: Element) -> str:
         """The UML metaclass of an element (``Class``, ``Port``…), from ``xmi:type`` or its feature."""
-        declared = el.get(f"{{{self.xmi_ns}}}type")
+        declared = el.get(self._type_attr)
         if declared:
             return declared.rpartition(":")[2]
         tag = el.tag
@@ -172,7 +177,9 @@ class RawModel:
             for ref_id in value.split():
                 target = self.by_id.get(ref_id)
                 targets.append(target if target is not None else ExternalRef("#" + ref_id))
-        idref_attr = f"{{{self.xmi_ns}}}idref"
+            if not len(el):
+                return targets
+        idref_attr = self._idref_attr
         for child in el.iterchildren(feature):
             ref_id = child.get(idref_attr)
             href = child.get("href")
@@ -184,6 +191,10 @@ class RawModel:
         return targets
 
     def ref(self, el: Element, feature: str) -> Element | ExternalRef | None:
+        value = el.get(feature)
+        if value and " " not in value:  # the common case: one IDREF attribute
+            target = self.by_id.get(value)
+            return target if target is not None else ExternalRef("#" + value)
         found = self.refs(el, feature)
         return found[0] if found else None
 
