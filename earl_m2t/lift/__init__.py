@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
 
 from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift.datatypes import DataTypeLifter
@@ -32,7 +33,7 @@ def lift(raw: RawModel, profile: Profile | None = None) -> LiftResult:
         dialect=raw.dialect,
         name=model_name,
         systems=tuple(systems),
-        datatypes=dict(sorted(types.datatypes.items())),
+        datatypes=MappingProxyType(dict(sorted(types.datatypes.items()))),
         has_earl_content=bool(systems) or structure.recognised_anything,
     )
     return LiftResult(model, tuple(raw.diagnostics) + tuple(structure.diagnostics))

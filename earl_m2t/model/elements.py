@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Iterator
+from typing import Iterator, Mapping
 
 from earl_m2t.model.location import Location
 
@@ -336,9 +336,8 @@ class EarlModel:
     dialect: str
     name: str
     systems: tuple[System, ...]
-    datatypes: dict[str, DataType]  # by qualified name
-    # facts about recognition kept for rules (e.g. blocks that look like EARL but sit nowhere)
-    has_earl_content: bool = True
+    datatypes: Mapping[str, DataType]  # by qualified name, read-only
+    has_earl_content: bool = True  # False when nothing in the file was recognised as EARL
 
     @property
     def system(self) -> System | None:

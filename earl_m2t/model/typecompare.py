@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+from typing import Mapping
+
 from earl_m2t.model.elements import DataType
 
 
-def structural_difference(datatypes: dict[str, DataType], left: str, right: str) -> str:
+def structural_difference(datatypes: Mapping[str, DataType], left: str, right: str) -> str:
     """A short description of the first structural difference, or "" when they match."""
     return _compare(datatypes, left, right, "", set())
 
 
-def _compare(datatypes: dict[str, DataType], left: str, right: str, where: str, seen: set[tuple[str, str]]) -> str:
+def _compare(datatypes: Mapping[str, DataType], left: str, right: str, where: str, seen: set[tuple[str, str]]) -> str:
     if left == right or (left, right) in seen:
         return ""
     seen.add((left, right))
