@@ -10,7 +10,7 @@ import argparse
 import gc
 import os
 import sys
-from typing import Sequence
+from typing import NoReturn, Sequence
 
 from earl_m2t import __version__
 from earl_m2t.cli import check as check_command
@@ -21,7 +21,7 @@ EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line and exit 2, as for unreadable models
+    def error(self, message: str) -> NoReturn:  # one line and exit 2, as for unreadable models
         self.exit(EXIT_USAGE, f"earl-m2t: {message} (see earl-m2t --help)\n")
 
 

@@ -9,7 +9,7 @@ from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
-from earl_m2t.model.elements import Agent, Buffer, Link, Memory, Robot, Subsystem, System
+from earl_m2t.model.elements import Agent, BasicBehaviour, Buffer, Fsm, Link, Memory, Robot, Subsystem, System
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 AGENT_TYPE_ORDER = "CERT"
@@ -224,8 +224,8 @@ class StructureLifter:
         ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory), siblings)
         lifter = BehaviourLifter(ctx)
         machines = lifter.state_machines(block)
-        fsm = None
-        behaviours = []
+        fsm: Fsm | None = None
+        behaviours: list[BasicBehaviour] = []
         if machines:
             fsm, behaviours = lifter.fsm(machines[0])
         shared = [b for b, concept in lifter.owned_behaviours(block) if concept == "BasicBehaviour"]
@@ -313,13 +313,14 @@ class StructureLifter:
         raw = self.raw
         name = raw.name(connector)
         location = raw.location(connector)
-        if len(ends) != 2 or ends[0] is None or ends[1] is None:
+        first = ends[0] if len(ends) == 2 else None
+        second = ends[1] if len(ends) == 2 else None
+        if first is None or second is None:
             if self._looks_like_link(connector):
                 self._note("C001", Severity.ERROR,
                            f"connector '{name or raw.xmi_id(connector)}' does not connect two subsystem buffers",
                            connector, f"{owner}.{name}" if name else owner)
             return []
-        first, second = ends
         if len(first) == len(second):
             pairs = list(zip(first, second))
             replicated = len(first) > 1

@@ -10,7 +10,7 @@ from earl_m2t.model.elements import EarlModel, Fsm
 
 def subsystem_graph(model: EarlModel) -> nx.DiGraph:
     """Subsystems as nodes (attributes ``kind``, ``agent``), one edge per linked pair, source → target."""
-    graph = nx.DiGraph()
+    graph: nx.DiGraph = nx.DiGraph()
     for sub in model.subsystems:
         graph.add_node(sub.path, kind=sub.kind, agent=sub.agent)
     for link in model.links:
@@ -23,7 +23,7 @@ def subsystem_graph(model: EarlModel) -> nx.DiGraph:
 
 def agent_graph(model: EarlModel) -> nx.DiGraph:
     """Agents as nodes, inter-agent links as edges (the paper's system graph, Sec. 2.5)."""
-    graph = nx.DiGraph()
+    graph: nx.DiGraph = nx.DiGraph()
     for agent in model.agents:
         graph.add_node(agent.path)
     for system in model.systems:
@@ -37,7 +37,7 @@ def agent_graph(model: EarlModel) -> nx.DiGraph:
 
 def fsm_graph(fsm: Fsm) -> nx.DiGraph:
     """States as nodes, transitions between states of this FSM as edges."""
-    graph = nx.DiGraph()
+    graph: nx.DiGraph = nx.DiGraph()
     graph.add_nodes_from(state.name for state in fsm.states)
     for tr in fsm.transitions:
         if not tr.source_foreign and not tr.target_foreign:
@@ -57,7 +57,7 @@ def unreachable_states(fsm: Fsm) -> list[str]:
 
 def datatype_graph(model: EarlModel) -> nx.DiGraph:
     """dataTypes as nodes, an edge for every field typed by another dataType."""
-    graph = nx.DiGraph()
+    graph: nx.DiGraph = nx.DiGraph()
     for key, datatype in model.datatypes.items():
         graph.add_node(key)
         for field in datatype.fields:

@@ -36,7 +36,7 @@ COLLECTION_TYPES = (tuple, list, set, frozenset)
 _MISSING = object()
 
 
-class OclSet(tuple):  # type: ignore[type-arg]
+class OclSet(tuple):
     """A tuple without duplicates whose equality ignores order (the result of ``asSet()``)."""
 
     __slots__ = ()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
-from typing import Literal
+from typing import Literal, cast
 
 from earl_m2t.predicate.ast import (
     And,
@@ -16,6 +16,7 @@ from earl_m2t.predicate.ast import (
     Node,
     Not,
     Number,
+    Operand,
     Or,
     PredicateRef,
     Replicated,
@@ -26,17 +27,20 @@ from earl_m2t.predicate.errors import PredicateSyntaxError, where
 
 
 def map_children(node: Node, fn: Callable[[Node], Node]) -> Node:
-    """Return ``node`` with ``fn`` applied to each of its direct sub-nodes."""
+    """Return ``node`` with ``fn`` applied to each of its direct sub-nodes.
+
+    ``fn`` keeps the kind of what it maps (an expression stays an expression, a field a field).
+    """
     if isinstance(node, Not):
-        return replace(node, operand=fn(node.operand))
+        return replace(node, operand=cast(Expr, fn(node.operand)))
     if isinstance(node, (And, Or)):
-        return replace(node, operands=tuple(fn(o) for o in node.operands))
+        return replace(node, operands=tuple(cast(Expr, fn(o)) for o in node.operands))
     if isinstance(node, NewData):
-        return replace(node, ref=fn(node.ref))
+        return replace(node, ref=cast(FieldRef, fn(node.ref)))
     if isinstance(node, Compare):
-        return replace(node, left=fn(node.left), right=fn(node.right))
+        return replace(node, left=cast(Operand, fn(node.left)), right=cast(Operand, fn(node.right)))
     if isinstance(node, Replicated):
-        return replace(node, template=fn(node.template))
+        return replace(node, template=cast(Expr, fn(node.template)))
     return node
 
 
@@ -147,7 +151,7 @@ def replication_template(first: Expr, last: Expr, *, var: str = "K", last_index:
             line,
             column,
         )
-    return template
+    return cast(Expr, template)
 
 
 class _Unifier:

@@ -12,6 +12,7 @@ import tomllib
 import zipfile
 from dataclasses import dataclass, field
 from functools import cache
+from typing import TypeAlias
 from pathlib import Path
 
 from lxml import etree
@@ -21,7 +22,7 @@ from earl_m2t.model.location import Location
 from earl_m2t.read.safe_xml import parse_xml_file
 from earl_m2t.resources import metamodel_path
 
-Element = etree._Element
+Element: TypeAlias = etree._Element
 
 
 @cache

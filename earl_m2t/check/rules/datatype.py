@@ -7,7 +7,7 @@ from typing import Iterator
 import networkx as nx
 
 from earl_m2t.check.registry import Finding, rule
-from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.elements import Buffer, EarlModel, Memory, PartialFunction, PrimitivePredicate
 from earl_m2t.model.graph import datatype_graph
 from earl_m2t.model.location import Location
 from earl_m2t.model.naming import collision_key, identifier_problem
@@ -16,7 +16,8 @@ from earl_m2t.model.naming import collision_key, identifier_problem
 @rule("D001")
 def unresolved_type(model: EarlModel) -> Iterator[Finding]:
     for sub in model.definitions():
-        for item in (*sub.buffers, *sub.memory):
+        typed: list[Buffer | Memory] = [*sub.buffers, *sub.memory]
+        for item in typed:
             if item.type_ref and not item.datatype:
                 yield Finding(f"{item.path} is typed by '{item.type_ref}', which cannot be resolved",
                               item.location, item.path)
@@ -50,7 +51,9 @@ def _named(model: EarlModel) -> Iterator[tuple[str, str, Location, str]]:
             yield sub.name, sub.path, sub.location, f"{agent.path} subsystems"
     for sub in model.definitions():
         scope = f"{sub.path} members"
-        for item in (*sub.buffers, *sub.memory, *sub.functions, *sub.predicates):
+        members: list[Buffer | Memory | PartialFunction | PrimitivePredicate] = [
+            *sub.buffers, *sub.memory, *sub.functions, *sub.predicates]
+        for item in members:
             yield item.name, item.path, item.location, scope
         for bb in sub.behaviours:
             yield bb.name, bb.path, bb.location, f"{sub.path} behaviours"

@@ -31,16 +31,16 @@ def _stage_rule(model: EarlModel, want_memory: bool) -> Iterator[Finding]:
     kind = "memory" if want_memory else "output buffer"
     for sub in model.definitions():
         # replicated instances are reported by the name the model gives them (windingCurrentK/m)
-        template = {item.path: item.template for item in (*sub.outputs, *sub.memory)}
+        template = {b.path: b.template for b in sub.outputs} | {m.path: m.template for m in sub.memory}
         for bb in sub.behaviours:
             grouped: dict[tuple[int, tuple[str, ...]], list[str]] = {}
             for number, written, names in _stage_conflicts(sub, bb, want_memory):
                 shown = grouped.setdefault((number, tuple(names)), [])
                 if template[written] not in shown:
                     shown.append(template[written])
-            for (number, names), written in grouped.items():
-                yield Finding(f"{bb.path}: stage {number} runs {' and '.join(names)} in parallel and both write "
-                              f"{kind} {', '.join(written)}", bb.location, bb.path)
+            for (number, writers), elements in grouped.items():
+                yield Finding(f"{bb.path}: stage {number} runs {' and '.join(writers)} in parallel and both write "
+                              f"{kind} {', '.join(elements)}", bb.location, bb.path)
 
 
 @rule("T001")
