@@ -7,13 +7,10 @@ from dataclasses import dataclass, replace
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
-from earl_m2t.lift.recognise import Recogniser
+from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
 from earl_m2t.model.elements import Agent, BasicBehaviour, Buffer, Fsm, Link, Memory, Robot, Subsystem, System
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
-
-AGENT_TYPE_ORDER = "CERT"
-
 
 def computed_agent_type(has_e: bool, has_r: bool, has_t: bool) -> str:
     """Paper Table 2: C always, E with effectors, R with receptors, T with inter-agent links."""
@@ -38,6 +35,8 @@ class _AgentInstance:
 
 
 class StructureLifter:
+    """Finds the systems of a model and lifts everything under them; collects R001 and C001 notes."""
+
     def __init__(self, raw: RawModel, recogniser: Recogniser, types: DataTypeLifter) -> None:
         self.raw = raw
         self.recogniser = recogniser
@@ -46,12 +45,13 @@ class StructureLifter:
         self.recognised_anything = False
         self._outputs: set[str] = set()  # paths of every Output Buffer lifted so far
         self._templates: dict[str, tuple[str, str]] = {}  # instance path -> (template, instance name)
+        self._owners: dict[str, tuple[str, str]] = {}  # buffer path -> (agent path, subsystem path)
 
     # -- helpers -----------------------------------------------------------------------------
     def _note(self, code: str, severity: Severity, message: str, el: Element, element: str = "") -> None:
         self.diagnostics.append(Diagnostic(code, severity, message, self.raw.location(el), element))
 
-    def _recognise(self, el: Element, *names: str, path: str = ""):
+    def _recognise(self, el: Element, *names: str, path: str = "") -> Recognition:
         recognition = self.recogniser.recognise(el, *names)
         if recognition.concept:
             self.recognised_anything = True
@@ -92,7 +92,7 @@ class StructureLifter:
 
     # -- systems -----------------------------------------------------------------------------
     def systems(self) -> list[System]:
-        classes = [el for el in self._all_classes()]
+        classes = self._all_classes()
         system_blocks = [c for c in classes if self._recognise(c).concept == "System"]
         if not system_blocks:
             system_blocks = self._implicit_systems(classes)
@@ -129,12 +129,14 @@ class StructureLifter:
         for part, part_type in self._parts(block):
             concept, _ = self._part_concept(part, part_type, name)
             if concept == "Robot":
-                robot_agents = []
-                for robot_part_name, _ in self._instances(part):
+                for robot_part_name, robot_index in self._instances(part):
                     robot_path = robot_part_name
+                    robot_agents = []
                     for agent_part, agent_block in self._parts(part_type):
                         if self._part_concept(agent_part, agent_block, robot_path)[0] == "Agent":
-                            for inst in self._agents(agent_part, agent_block, robot_path, part):
+                            # agents of replicated robots are told apart by their robot
+                            prefix = f"{robot_path}." if robot_index else ""
+                            for inst in self._agents(agent_part, agent_block, robot_path, part, prefix):
                                 agents.append(inst)
                                 robot_agents.append(inst.agent.path)
                     robots.append(Robot(robot_part_name, robot_path, self.raw.name(part_type), tuple(robot_agents),
@@ -142,9 +144,7 @@ class StructureLifter:
             elif concept == "Agent":
                 agents.extend(self._agents(part, part_type, "", None))
         links = self._system_links(block, name, agents)
-        linked_agents = {l.source.split(".", 1)[0] for l in links if l.source} | {
-            l.target.split(".", 1)[0] for l in links if l.target
-        }
+        linked_agents = {self._owners[end][0] for link in links for end in link.ends if end in self._owners}
         final_agents = []
         for inst in agents:
             agent = inst.agent
@@ -160,11 +160,13 @@ class StructureLifter:
         return expand(self.raw.name(part), instance_count(lower, upper))
 
     # -- agents ------------------------------------------------------------------------------
-    def _agents(self, part: Element, block: Element, robot: str, robot_part: Element | None) -> list[_AgentInstance]:
-        return [self._agent(name, part, block, robot, robot_part) for name, _ in self._instances(part)]
+    def _agents(self, part: Element, block: Element, robot: str, robot_part: Element | None,
+                prefix: str = "") -> list[_AgentInstance]:
+        return [self._agent(name, f"{prefix}{name}", part, block, robot, robot_part)
+                for name, _ in self._instances(part)]
 
-    def _agent(self, name: str, part: Element, block: Element, robot: str, robot_part: Element | None) -> _AgentInstance:
-        path = name
+    def _agent(self, name: str, path: str, part: Element, block: Element, robot: str,
+               robot_part: Element | None) -> _AgentInstance:
         self._templates[path] = (self.raw.name(part), name)
         subsystem_parts = []
         for sub_part, sub_block in self._parts(block):
@@ -211,6 +213,7 @@ class StructureLifter:
                     for inst, k in expand(attr_name, instance_count(lower, upper))
                 ]
                 ports[id(attr)] = buffers
+                self._owners.update((b.path, (agent_path, path)) for b in buffers)
                 if direction == "out":
                     self._outputs.update(b.path for b in buffers)
                 (inputs if direction == "in" else outputs).extend(buffers)
@@ -273,14 +276,14 @@ class StructureLifter:
         links = []
         for connector in self.raw.children(block, "ownedConnector"):
             ends = [self._end_buffers(e, parts) for e in self.raw.children(connector, "end")]
-            links.extend(self._links(connector, ends, "agent", agent_path, f"{agent_path}."))
+            links.extend(self._links(connector, ends, "agent", agent_path))
         return links
 
     def _system_links(self, block: Element, system: str, agents: list[_AgentInstance]) -> list[Link]:
         links = []
         for connector in self.raw.children(block, "ownedConnector"):
             ends = [self._nested_end_buffers(e, agents) for e in self.raw.children(connector, "end")]
-            links.extend(self._links(connector, ends, "system", system, ""))
+            links.extend(self._links(connector, ends, "system", system))
         return links
 
     def _nested_end_buffers(self, end: Element, agents: list[_AgentInstance]) -> list[str] | None:
@@ -309,7 +312,7 @@ class StructureLifter:
             found.extend(buffers)
         return found or None
 
-    def _links(self, connector: Element, ends: list[list[str] | None], scope: str, owner: str, prefix: str) -> list[Link]:
+    def _links(self, connector: Element, ends: list[list[str] | None], scope: str, owner: str) -> list[Link]:
         raw = self.raw
         name = raw.name(connector)
         location = raw.location(connector)
@@ -342,7 +345,7 @@ class StructureLifter:
             else:
                 source, target = "", ""  # two outputs or two inputs: rule C001
             instance = self._instance_link_name(name, (a, b), scope) if name and replicated else name
-            display = instance or f"{_subsystem_name(source or a, prefix)},{_subsystem_name(target or b, prefix)}"
+            display = instance or f"{self._end_owner(source or a, scope)[1]},{self._end_owner(target or b, scope)[1]}"
             links.append(Link(instance, f"{owner}.{display}" if scope == "agent" else display, (a, b),
                               source, target, scope, owner, name, location))
         return links
@@ -350,15 +353,20 @@ class StructureLifter:
     def _is_output(self, buffer_path: str) -> bool:
         return buffer_path in self._outputs
 
+    def _end_owner(self, buffer_path: str, scope: str) -> tuple[str, str]:
+        """(template, instance name) of the subsystem (inside an agent) or agent (between agents)
+        a link end belongs to."""
+        agent, subsystem = self._owners.get(buffer_path, ("", ""))
+        owner = agent if scope == "system" else subsystem
+        return self._templates.get(owner, ("", "?"))
+
     def _instance_link_name(self, template: str, ends: tuple[str, str], scope: str) -> str:
         """``cs,motorControllerK/ve`` → ``cs,motorController3/ve``: each part naming a replicated
         end's template becomes that instance's name."""
         names: dict[str, str] = {}
         for end in ends:
-            owner = end.split(".")[0] if scope == "system" else ".".join(end.split(".")[:2])
-            if owner in self._templates:
-                part_template, instance = self._templates[owner]
-                names.setdefault(part_template, instance)
+            part_template, instance = self._end_owner(end, scope)
+            names.setdefault(part_template, instance)
         return ",".join(names.get(part.strip(), part) for part in template.split(","))
 
     def _looks_like_link(self, connector: Element) -> bool:
@@ -370,8 +378,3 @@ class StructureLifter:
             if role is not None and not isinstance(role, ExternalRef) and self.raw.uml_type(role) == "Port":
                 return True
         return False
-
-def _subsystem_name(buffer_path: str, prefix: str) -> str:
-    """``manip/a.cs.x/ob`` → ``cs`` (inside an agent) or ``manip/a`` (between agents)."""
-    parts = buffer_path.split(".")
-    return parts[1] if prefix else parts[0]
