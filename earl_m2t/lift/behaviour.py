@@ -43,7 +43,6 @@ class BehaviourContext:
     inputs: tuple[Buffer, ...]
     outputs: tuple[Buffer, ...]
     memory: tuple[Memory, ...]
-    sibling_names: frozenset[str]  # names/templates of the other subsystems of the agent
 
 
 def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: str) -> Condition | None:
@@ -72,14 +71,16 @@ class BehaviourLifter:
     def __init__(self, ctx: BehaviourContext) -> None:
         self.ctx = ctx
         self.raw = ctx.raw
+        self._owned: dict[int, list[tuple[Element, str]]] = {}
 
     # -- owned behaviours of the block -------------------------------------------------------
     def owned_behaviours(self, block: Element) -> list[tuple[Element, str]]:
-        """(behaviour, concept) for every owned behaviour recognised as an EARL concept."""
-        found = []
-        for beh in self.raw.children(block, "ownedBehavior"):
-            recognition = self.ctx.recogniser.recognise(beh)
-            found.append((beh, recognition.concept))
+        """(behaviour, concept) for every owned behaviour, concept "" when not an EARL one."""
+        found = self._owned.get(id(block))
+        if found is None:
+            recognise = self.ctx.recogniser.recognise
+            found = [(beh, recognise(beh).concept) for beh in self.raw.children(block, "ownedBehavior")]
+            self._owned[id(block)] = found
         return found
 
     def functions(self, block: Element) -> tuple[PartialFunction, ...]:
@@ -110,8 +111,6 @@ class BehaviourLifter:
             if qualifier not in ("", "self") and qualifier != self.ctx.path.rpartition(".")[2]:
                 foreign = qualifier
         targets = () if foreign else self.resolve_storage(local)
-        if not foreign and not targets and self._names_foreign(local):
-            foreign = "another subsystem"
         return Access(name, mode, targets, foreign, self.raw.location(param))
 
     def resolve_storage(self, name: str) -> tuple[str, ...]:
@@ -128,12 +127,9 @@ class BehaviourLifter:
             )
         return ()
 
-    def _names_foreign(self, name: str) -> bool:
-        return any(name.startswith(sibling + ".") for sibling in self.ctx.sibling_names)
-
     def predicates(self, block: Element) -> tuple[PrimitivePredicate, ...]:
         result = []
-        candidates = [(b, c) for b, c in self.owned_behaviours(block)]
+        candidates = list(self.owned_behaviours(block))
         candidates += [(r, self.ctx.recogniser.recognise(r).concept) for r in self.raw.children(block, "ownedRule")]
         for el, concept in candidates:
             if concept != "PrimitivePredicate":

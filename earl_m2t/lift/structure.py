@@ -174,12 +174,10 @@ class StructureLifter:
             kind = self.recogniser.abbreviation(concept) if self.recogniser.is_a(concept, "Subsystem") else ""
             if kind:
                 subsystem_parts.append((sub_part, sub_block, kind, route))
-        sibling_names = frozenset(self.raw.name(p) for p, _, _, _ in subsystem_parts)
         instances: list[_SubsystemInstance] = []
         for sub_part, sub_block, kind, route in subsystem_parts:
             for sub_name, index in self._instances(sub_part):
-                instances.append(self._subsystem(sub_part, sub_block, kind, route, path, sub_name, index,
-                                                 sibling_names - {self.raw.name(sub_part)}))
+                instances.append(self._subsystem(sub_part, sub_block, kind, route, path, sub_name, index))
         links = self._agent_links(block, path, instances)
         tags = self.recogniser.tags(block)
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()
@@ -189,7 +187,7 @@ class StructureLifter:
 
     # -- subsystems --------------------------------------------------------------------------
     def _subsystem(self, part: Element, block: Element, kind: str, route: str, agent_path: str,
-                   name: str, index: int, siblings: frozenset[str]) -> _SubsystemInstance:
+                   name: str, index: int) -> _SubsystemInstance:
         raw = self.raw
         path = f"{agent_path}.{name}"
         inputs: list[Buffer] = []
@@ -224,7 +222,7 @@ class StructureLifter:
                     Memory(inst, f"{path}.{inst}", datatype, attr_name, k, raw.location(attr), recognition.route, unresolved)
                     for inst, k in expand(attr_name, instance_count(lower, upper))
                 )
-        ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory), siblings)
+        ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory))
         lifter = BehaviourLifter(ctx)
         machines = lifter.state_machines(block)
         fsm: Fsm | None = None
