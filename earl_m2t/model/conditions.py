@@ -35,7 +35,7 @@ class Problem:
     location: Location
 
 
-@lru_cache(maxsize=4096)
+@lru_cache(maxsize=65536)
 def _parse(text: str) -> Expr | PredicateSyntaxError:
     try:
         return parse_predicate(text)
