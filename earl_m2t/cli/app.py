@@ -14,8 +14,10 @@ from typing import NoReturn, Sequence
 
 from earl_m2t import __version__
 from earl_m2t.cli import check as check_command
+from earl_m2t.cli import profile as profile_command
 from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
+from earl_m2t.cli import stats as stats_command
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -32,6 +34,8 @@ def build_parser() -> argparse.ArgumentParser:
     check_command.add_parser(commands)
     show_command.add_parser(commands)
     rules_command.add_parser(commands)
+    stats_command.add_parser(commands)
+    profile_command.add_parser(commands)
     return parser
 
 
