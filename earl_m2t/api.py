@@ -20,17 +20,20 @@ class Loaded:
     diagnostics: tuple[Diagnostic, ...]
 
 
-def load(path: Path | str) -> Loaded:
-    """Read and lift a model file; raises :class:`earl_m2t.diagnostics.ModelReadError` when unreadable."""
-    raw = load_raw_model(Path(path))
+def load(path: Path | str, dialect: str | None = None) -> Loaded:
+    """Read and lift a model file; raises :class:`earl_m2t.diagnostics.ModelReadError` when unreadable.
+
+    ``dialect`` (``papyrus``, ``cameo`` …, see ``metamodel/xmi/dialects.toml``) overrides detection.
+    """
+    raw = load_raw_model(Path(path), dialect)
     result = lift(raw)
     return Loaded(result.model, result.diagnostics)
 
 
-def check(path: Path | str, options: CheckOptions | None = None) -> list[Diagnostic]:
+def check(path: Path | str, options: CheckOptions | None = None, dialect: str | None = None) -> list[Diagnostic]:
     """Every enabled diagnostic for one model file, sorted by location."""
     options = options or CheckOptions()
-    loaded = load(path)
+    loaded = load(path, dialect)
     return check_loaded(loaded, options)
 
 

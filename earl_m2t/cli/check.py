@@ -8,6 +8,7 @@ import sys
 from earl_m2t.api import check_loaded, load
 from earl_m2t.check.engine import CheckOptions
 from earl_m2t.check.registry import select_codes
+from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.render.diagnostics import render_json, render_text
 
@@ -19,6 +20,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--select", default="", metavar="CODES",
                         help="comma-separated codes, prefixes (S, B00) or rule names to run (default: all)")
     parser.add_argument("--ignore", default="", metavar="CODES", help="comma-separated codes or prefixes to skip")
+    add_dialect_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -39,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     unreadable: list[dict[str, object]] = []
     for model in args.models:
         try:
-            diagnostics.extend(check_loaded(load(model), options))
+            diagnostics.extend(check_loaded(load(model, args.dialect), options))
             checked.append(model)
         except ModelReadError as exc:
             print(exc.one_line(), file=sys.stderr)

@@ -7,6 +7,7 @@ import json
 import sys
 
 from earl_m2t.api import load
+from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.export import model_to_dict
 from earl_m2t.render.show_text import render_model
@@ -16,12 +17,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("show", help="print the EARL model lifted from a model file")
     parser.add_argument("model", metavar="MODEL")
     parser.add_argument("--format", choices=("text", "json"), default="text")
+    add_dialect_option(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     try:
-        loaded = load(args.model)
+        loaded = load(args.model, args.dialect)
     except ModelReadError as exc:
         print(exc.one_line(), file=sys.stderr)
         return 2

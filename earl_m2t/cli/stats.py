@@ -1,16 +1,93 @@
-"""``earl-m2t stats MODEL``: a generic SysML summary of any model file (placeholder)."""
+"""``earl-m2t stats MODEL``: a generic SysML summary of any model file, EARL or not."""
 
 from __future__ import annotations
 
 import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from earl_m2t.api import load
+from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.read.xmi import load_raw_model
+from earl_m2t.stats import Stats, model_stats
+
+FORMAT_VERSION = 1
+
+_LABELS = {
+    "blocks": "blocks",
+    "parts": "parts",
+    "ports": "ports",
+    "connectors": "connectors",
+    "state_machines": "state machines",
+    "transitions": "transitions",
+    "activities": "activities",
+    "requirements": "requirements",
+    "value_types": "value types",
+    "data_types": "data types",
+    "packages": "packages",
+}
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
-    parser = commands.add_parser("stats", help="count the SysML elements of a model (not implemented yet)")
+    parser = commands.add_parser("stats", help="count the SysML elements of a model file (any model, EARL or not)")
     parser.add_argument("model", metavar="MODEL")
+    parser.add_argument("--format", choices=("text", "json"), default="text")
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    print("earl-m2t: stats is not implemented yet")
-    return 2
+    path = Path(args.model)
+    try:
+        raw = load_raw_model(path)
+        size = path.stat().st_size
+        earl = load(path).model
+    except ModelReadError as exc:
+        print(exc.one_line(), file=sys.stderr)
+        return 2
+    stats = model_stats(raw, file_size=size, earl=earl)
+    if args.format == "json":
+        sys.stdout.write(json.dumps(stats_to_dict(stats), indent=2, ensure_ascii=False) + "\n")
+    else:
+        sys.stdout.write(render_stats(stats))
+    return 0
+
+
+def stats_to_dict(stats: Stats) -> dict[str, Any]:
+    """The JSON document; its keys are documented in README.md and kept stable."""
+    earl = stats.earl
+    return {
+        "format": FORMAT_VERSION,
+        "file": stats.file,
+        "dialect": stats.dialect,
+        "file_size": stats.file_size,
+        "elements": stats.elements,
+        "counts": stats.counts(),
+        "stereotype_applications": stats.stereotype_applications(),
+        "earl": None if earl is None else {"agents": earl.agents, "subsystems": earl.subsystems, "links": earl.links},
+    }
+
+
+def render_stats(stats: Stats) -> str:
+    """An aligned two-column table, one figure a line."""
+    rows: list[tuple[str, str]] = [
+        ("file", stats.file),
+        ("dialect", stats.dialect),
+        ("file size (bytes)", "" if stats.file_size is None else str(stats.file_size)),
+        ("elements with xmi:id", str(stats.elements)),
+    ]
+    rows += [(_LABELS[key], str(value)) for key, value in stats.counts().items()]
+    rows += [(f"stereotype applications: {family}", str(value))
+             for family, value in stats.stereotype_applications().items()]
+    if stats.earl is None:
+        rows.append(("EARL model", "no"))
+    else:
+        rows += [
+            ("EARL model", "yes"),
+            ("EARL agents", str(stats.earl.agents)),
+            ("EARL subsystems", str(stats.earl.subsystems)),
+            ("EARL links", str(stats.earl.links)),
+        ]
+    width = max(len(label) for label, _ in rows)
+    return "".join(f"{label.ljust(width)}  {value}\n" for label, value in rows)

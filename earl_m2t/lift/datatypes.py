@@ -48,9 +48,11 @@ class DataTypeLifter:
         if ref is None:
             return "", ""
         if isinstance(ref, ExternalRef):
-            kind = primitive_kind(ref.fragment)
-            if kind:
-                return self._builtin(ref.fragment, kind), ""
+            # by the href's fragment, else by the target's name when the file states it
+            for name in (ref.fragment, ref.name):
+                kind = primitive_kind(name) if name else ""
+                if kind:
+                    return self._builtin(name, kind), ""
             return "", ref.href
         return self.lift(ref), ""
 

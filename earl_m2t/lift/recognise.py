@@ -63,7 +63,7 @@ class Recogniser:
                 if general is None:
                     continue
                 if isinstance(general, ExternalRef):
-                    concept = self._by_key.get(_key(general.fragment))
+                    concept = self._by_key.get(_key(general.fragment)) or self._external_model_block_concept(general)
                     if concept:
                         return concept
                     continue
@@ -83,6 +83,13 @@ class Recogniser:
                 return concept
             owner = self.raw.owner(owner)
         return ""
+
+    def _external_model_block_concept(self, ref: ExternalRef) -> str:
+        """An EARL Model block in another resource, known by its qualified name (``EARL::Model::Agent``)."""
+        owners = [segment.strip().lower() for segment in ref.path.split("::")[:-1]]
+        if not any(owner in MODEL_PACKAGE_NAMES for owner in owners):
+            return ""
+        return self._by_key.get(_key(ref.name), "")
 
     def by_suffix(self, *names: str) -> str:
         for name in names:

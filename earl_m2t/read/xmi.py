@@ -4,93 +4,54 @@ One pass over the tree indexes every element by ``xmi:id`` (skipping tool ``xmi:
 blocks) and collects stereotype applications; references are resolved afterwards, on demand,
 whichever of the four XMI encodings the tool used (IDREF attribute, IDREFS list, child with
 ``xmi:idref``, child with ``href``).
+
+A ``.mdzip`` project (:mod:`earl_m2t.read.mdzip`) gives one or two documents (model and shared
+model), indexed as one model; every location names the member it comes from. Which tool wrote
+the file is decided by :mod:`earl_m2t.read.dialects`, from the tables of ``dialects.toml``.
 """
 
 from __future__ import annotations
 
-import tomllib
-import zipfile
 from dataclasses import dataclass, field
-from functools import cache
-from typing import TypeAlias
 from pathlib import Path
+from typing import Sequence, TypeAlias
 
 from lxml import etree
 
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
-from earl_m2t.read.safe_xml import parse_xml_file
-from earl_m2t.resources import metamodel_path
+from earl_m2t.read.dialects import DialectTable, detect_dialect, dialect_table, normalise_uri
+from earl_m2t.read.mdzip import is_archive, read_model_members
+from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_file
 
 Element: TypeAlias = etree._Element
 
-
-@cache
-def normalise_uri(uri: str) -> str:
-    """Compare namespace URIs without scheme differences (http/https) or a trailing '/'."""
-    uri = uri.strip()
-    if uri.startswith("https://"):
-        uri = "http://" + uri[len("https://") :]
-    return uri.rstrip("/")
-
-
-@dataclass(frozen=True)
-class DialectTable:
-    """The namespace tables of ``metamodel/xmi/dialects.toml``."""
-
-    xmi_uris: frozenset[str]
-    uml_eclipse_prefix: str
-    uml_omg_prefixes: tuple[str, ...]
-    sysml_prefixes: tuple[str, ...]
-    sysml_v2_prefixes: tuple[str, ...]
-    earl_prefixes: tuple[str, ...]
-    implicit_types: dict[str, str]
-    titles: dict[str, str]
-
-    def __hash__(self) -> int:
-        return id(self)
-
-    def is_uml(self, uri: str) -> bool:
-        uri = normalise_uri(uri)
-        if uri.startswith(normalise_uri(self.uml_eclipse_prefix)) and uri.endswith("/UML"):
-            return True
-        return any(uri.startswith(normalise_uri(p)) for p in self.uml_omg_prefixes) and (
-            "Profile" not in uri and not uri.endswith(("UMLDI", "UMLDC"))
-        )
-
-    def is_sysml(self, uri: str) -> bool:
-        uri = normalise_uri(uri)
-        return any(uri.startswith(normalise_uri(p)) for p in self.sysml_prefixes)
-
-    def is_earl(self, uri: str) -> bool:
-        uri = normalise_uri(uri)
-        return any(uri.startswith(normalise_uri(p)) for p in self.earl_prefixes)
-
-    def family(self, uri: str) -> str:
-        """Which profile a stereotype namespace belongs to: ``earl``, ``sysml`` or ``other``."""
-        return "earl" if self.is_earl(uri) else "sysml" if self.is_sysml(uri) else "other"
-
-
-@cache
-def dialect_table() -> DialectTable:
-    data = tomllib.loads(metamodel_path("xmi", "dialects.toml").read_text(encoding="utf-8"))
-    return DialectTable(
-        xmi_uris=frozenset(normalise_uri(u) for u in data["xmi"]["uris"]),
-        uml_eclipse_prefix=data["uml"]["eclipse_prefix"],
-        uml_omg_prefixes=tuple(data["uml"]["omg_prefixes"]),
-        sysml_prefixes=tuple(data["sysml"]["prefixes"]),
-        sysml_v2_prefixes=tuple(data["sysml"]["sysml_v2_prefixes"]),
-        earl_prefixes=tuple(data["earl"]["prefixes"]),
-        implicit_types=dict(data["implicit_types"]),
-        titles={name: d["title"] for name, d in data["dialects"].items()},
-    )
+__all__ = [
+    "DialectTable",
+    "Element",
+    "ExternalRef",
+    "RawModel",
+    "StereotypeApplication",
+    "detect_dialect",
+    "dialect_table",
+    "index_documents",
+    "index_tree",
+    "load_raw_model",
+    "normalise_uri",
+]
 
 
 @dataclass(frozen=True, slots=True)
 class ExternalRef:
-    """A reference into another resource (``href="lib.uml#id"``) that is not in this file."""
+    """A reference into another resource (``href="lib.uml#id"``) that is not in this file.
+
+    ``path`` is the target's qualified name when the file states it (MagicDraw writes a
+    ``referenceExtension referentPath='SysML::Libraries::PrimitiveValueTypes::Real'`` beside
+    every href into a used project), else "".
+    """
 
     href: str
+    path: str = ""
 
     @property
     def fragment(self) -> str:
@@ -100,10 +61,20 @@ class ExternalRef:
     def resource(self) -> str:
         return self.href.partition("#")[0]
 
+    @property
+    def name(self) -> str:
+        """The target's own name, the last segment of ``path`` ("" when unknown)."""
+        return self.path.rpartition("::")[2].strip()
+
 
 @dataclass(frozen=True, slots=True)
 class StereotypeApplication:
-    """``<Profile:Stereotype base_X="id" tag="value"/>``, indexed by the extended element."""
+    """``<Profile:Stereotype base_X="id" tag="value"/>``, indexed by the extended element.
+
+    Tag values given as child elements are joined with spaces: text as written, references
+    as the target's id (``xmi:idref``, or the fragment of an href into this file) or, for an
+    href into another resource, the href itself with spaces escaped as ``%20``.
+    """
 
     profile_uri: str
     family: str  # "earl" | "sysml" | "other": which profile the namespace belongs to
@@ -115,7 +86,11 @@ class StereotypeApplication:
 
 @dataclass
 class RawModel:
-    """A parsed XMI file: the tree, the id index and the stereotype applications."""
+    """A parsed XMI file: the tree, the id index and the stereotype applications.
+
+    A model may come from several documents (a ``.mdzip``'s model and shared model): ``root``
+    and ``file`` are the first one's, ``documents`` lists every (root, file) pair.
+    """
 
     file: str
     root: Element
@@ -127,18 +102,30 @@ class RawModel:
     model_roots: list[Element]
     diagnostics: list[Diagnostic] = field(default_factory=list)
     table: DialectTable = field(default_factory=dialect_table)
+    documents: tuple[tuple[Element, str], ...] = ()
+    earl_uris: frozenset[str] = frozenset()  # the file's own EARL profile URIs (normalised)
 
     def __post_init__(self) -> None:
         self._id_attr = f"{{{self.xmi_ns}}}id"
         self._idref_attr = f"{{{self.xmi_ns}}}idref"
         self._type_attr = f"{{{self.xmi_ns}}}type"
+        self._referent_path = f"{{{self.xmi_ns}}}Extension/referenceExtension"
+        if not self.documents:
+            self.documents = ((self.root, self.file),)
 
     # -- identity and location -------------------------------------------------------------
     def xmi_id(self, el: Element) -> str:
         return el.get(self._id_attr) or ""
 
+    def file_of(self, el: Element) -> str:
+        """The file (or archive member) an element was read from."""
+        if len(self.documents) == 1:
+            return self.file
+        root = el.getroottree().getroot()
+        return next((file for doc, file in self.documents if doc is root), self.file)
+
     def location(self, el: Element) -> Location:
-        return Location(self.file, el.sourceline or 0, 0, self.xmi_id(el))
+        return Location(self.file_of(el), el.sourceline or 0, 0, self.xmi_id(el))
 
     def name(self, el: Element) -> str:
         return el.get("name") or ""
@@ -166,8 +153,11 @@ class RawModel:
         return found
 
     def owner(self, el: Element) -> Element | None:
+        """The containing element; None at the top (the ``xmi:XMI`` wrapper is nobody's owner)."""
         parent = el.getparent()
-        return parent if parent is not None and parent is not self.root else None
+        if parent is None or (parent.getparent() is None and _namespace_of(parent) != self.uml_ns):
+            return None
+        return parent
 
     # -- references --------------------------------------------------------------------------
     def refs(self, el: Element, feature: str) -> list[Element | ExternalRef]:
@@ -188,7 +178,7 @@ class RawModel:
                 target = self.by_id.get(ref_id)
                 targets.append(target if target is not None else ExternalRef("#" + ref_id))
             elif href:
-                targets.append(self._resolve_href(href))
+                targets.append(self._resolve_href(href, child))
         return targets
 
     def ref(self, el: Element, feature: str) -> Element | ExternalRef | None:
@@ -199,13 +189,22 @@ class RawModel:
         found = self.refs(el, feature)
         return found[0] if found else None
 
-    def _resolve_href(self, href: str) -> Element | ExternalRef:
+    def local_fragment(self, href: str) -> str:
+        """The id an href names in this file ("#id", MagicDraw's "local:/PROJECT-…#id"), else ""."""
         resource, _, fragment = href.partition("#")
-        if not resource:
-            target = self.by_id.get(fragment)
-            if target is not None:
-                return target
-        return ExternalRef(href)
+        if fragment in self.by_id and (not resource or resource.startswith(self.table.local_resource_prefixes)):
+            return fragment
+        return ""
+
+    def _resolve_href(self, href: str, el: Element | None = None) -> Element | ExternalRef:
+        local = self.local_fragment(href)
+        if local:
+            return self.by_id[local]
+        path = ""
+        if el is not None and len(el):
+            referent = el.find(self._referent_path)
+            path = (referent.get("referentPath") or "") if referent is not None else ""
+        return ExternalRef(href, path)
 
     # -- stereotypes -------------------------------------------------------------------------
     def applied(self, el: Element) -> list[StereotypeApplication]:
@@ -219,7 +218,11 @@ class RawModel:
 
     # -- values ------------------------------------------------------------------------------
     def opaque_bodies(self, el: Element) -> list[tuple[str, str]]:
-        """(language, body) pairs of an OpaqueExpression / OpaqueBehavior (bodies as children or attribute)."""
+        """(language, body) pairs of an OpaqueExpression / OpaqueBehavior (bodies as children or attribute).
+
+        ``body`` and ``language`` are parallel lists whatever their order in the file (Papyrus
+        writes the languages first, Cameo the bodies).
+        """
         bodies = [child.text or "" for child in el.iterchildren("body")]
         if not bodies and el.get("body") is not None:
             bodies = [el.get("body") or ""]
@@ -235,31 +238,103 @@ class RawModel:
         """Where an expression's text starts: its first ``<body>`` child, else the element itself."""
         body = next(el.iterchildren("body"), None)
         line = (body.sourceline if body is not None else None) or el.sourceline or 0
-        return Location(self.file, line, 0, self.xmi_id(el))
+        return Location(self.file_of(el), line, 0, self.xmi_id(el))
 
 
-def load_raw_model(path: Path) -> RawModel:
-    """Read an XMI file into a :class:`RawModel`; unreadable input raises :class:`ModelReadError`."""
+# -- loading -------------------------------------------------------------------------------------
+
+
+def load_raw_model(path: Path, dialect: str | None = None) -> RawModel:
+    """Read an XMI file or a ``.mdzip`` project into a :class:`RawModel`.
+
+    ``dialect`` (a name of ``[dialects]`` in dialects.toml) overrides detection. Unreadable
+    input raises :class:`ModelReadError`.
+    """
     file = str(path)
     if path.is_dir():
         raise ModelReadError(file, "is a directory, not a model file")
     if not path.exists():
         raise ModelReadError(file, "no such file")
-    if zipfile.is_zipfile(path):
-        raise ModelReadError(
-            file, "is a ZIP archive (a Cameo .mdzip project?); this format is not supported"
-        )
     if path.suffix.lower() == ".sysml":
         raise ModelReadError(file, "SysML v2 textual models are not supported yet")
+    if is_archive(path):
+        members = read_model_members(path)
+        documents = [(parse_xml_bytes(m.data, m.file).getroot(), m.file) for m in members]
+        return index_documents(documents, dialect)
     tree = parse_xml_file(path)
-    return index_tree(tree.getroot(), file)
+    return index_tree(tree.getroot(), file, dialect)
 
 
-def index_tree(root: Element, file: str) -> RawModel:
+def index_tree(root: Element, file: str, dialect: str | None = None) -> RawModel:
     """Build the id index and the stereotype table in one pass over the tree."""
+    return index_documents([(root, file)], dialect)
+
+
+@dataclass
+class _Document:
+    root: Element
+    file: str
+    xmi_ns: str
+    uml_ns: str
+    model_roots: list[Element]
+    applications: list[Element]  # root-level elements of other namespaces: stereotype applications
+
+
+def index_documents(documents: Sequence[tuple[Element, str]], dialect: str | None = None) -> RawModel:
+    """Index one model held in one or more documents (the first is the main one).
+
+    ``dialect`` overrides detection; detection looks at the first document only.
+    """
     table = dialect_table()
-    nsmap = {uri: prefix for prefix, uri in (root.nsmap or {}).items()}
-    xmi_ns = _find_namespace(nsmap, table.xmi_uris)
+    docs = [_document(root, file, table) for root, file in documents]
+    main = docs[0]
+    model_roots = [top for doc in docs for top in doc.model_roots]
+    if not model_roots:
+        raise ModelReadError(main.file, "XMI file holds no UML model element", main.root.sourceline or 0)
+    if dialect is None:
+        dialect = detect_dialect(main.root, main.uml_ns, main.xmi_ns, _sample_ids(model_roots[0], main.xmi_ns))
+        if dialect not in table.titles:
+            known = table.dialect(dialect)
+            message = known.message if known is not None and known.message else f"{dialect} XMI is not supported"
+            raise ModelReadError(main.file, message, main.root.sourceline or 0)
+    elif dialect not in table.titles:
+        raise ModelReadError(main.file, f"unknown dialect '{dialect}' (known: {', '.join(table.names)})")
+
+    by_id: dict[str, Element] = {}
+    diagnostics: list[Diagnostic] = []
+    profile_applications: list[Element] = []
+    ext_tags = frozenset(f"{{{uri}}}Extension" for uri in _spellings(table.xmi_uris))
+    for doc in docs:
+        id_attr = f"{{{doc.xmi_ns}}}id"
+        for top in doc.model_roots:
+            _index_subtree(top, id_attr, ext_tags, by_id, profile_applications, diagnostics, doc.file)
+    raw = RawModel(main.file, main.root, dialect, main.xmi_ns, main.uml_ns, by_id, {}, model_roots, diagnostics,
+                   table, tuple((d.root, d.file) for d in docs))
+    raw.earl_uris = earl_profile_uris(raw, profile_applications)
+    families: dict[str, str] = {}
+    for doc in docs:
+        for top in doc.applications:
+            uri = _namespace_of(top)
+            family = families.get(uri)
+            if family is None:
+                family = families[uri] = table.family(uri, raw.earl_uris)
+            app = _stereotype_application(raw, top, uri, family)
+            if app is not None:
+                raw.stereotypes.setdefault(app.base_id, []).append(app)
+    return raw
+
+
+def _sample_ids(model: Element, xmi_ns: str) -> tuple[str, ...]:
+    """The ids of a model root and of its first packaged element, for detection by id shape."""
+    id_attr = f"{{{xmi_ns}}}id"
+    first = next(model.iterchildren("packagedElement"), None)
+    return (model.get(id_attr) or "", first.get(id_attr) or "" if first is not None else "")
+
+
+def _document(root: Element, file: str, table: DialectTable) -> _Document:
+    """Check one document's namespaces and split its top level into models and stereotype applications."""
+    nsmap = {uri: prefix for prefix, uri in (root.nsmap or {}).items() if uri}
+    xmi_ns = next((uri for uri in nsmap if normalise_uri(uri) in table.xmi_uris), "")
     uml_ns = next((uri for uri in nsmap if table.is_uml(uri)), "")
     root_uri = _namespace_of(root)
     if any(normalise_uri(root_uri).startswith(normalise_uri(p)) for p in table.sysml_v2_prefixes):
@@ -271,52 +346,39 @@ def index_tree(root: Element, file: str) -> RawModel:
         )
     if not uml_ns:
         raise ModelReadError(file, "XMI file without a UML model (no UML namespace declared)", root.sourceline or 0)
-    dialect = detect_dialect(root, uml_ns, xmi_ns)
-    if dialect not in table.titles:
-        raise ModelReadError(
-            file, f"{dialect} XMI is not supported by this version of earl-m2t", root.sourceline or 0
-        )
-
-    by_id: dict[str, Element] = {}
-    stereotypes: dict[str, list[StereotypeApplication]] = {}
     model_roots: list[Element] = []
-    diagnostics: list[Diagnostic] = []
-    id_attr = f"{{{xmi_ns}}}id"
-    ext_tag = f"{{{xmi_ns}}}Extension"
-
-    families: dict[str, str] = {}
-    top_level = [root] if _namespace_of(root) == uml_ns else [c for c in root if isinstance(c.tag, str)]
+    applications: list[Element] = []
+    top_level = [root] if root_uri == uml_ns else [c for c in root if isinstance(c.tag, str)]
     for top in top_level:
         top_uri = _namespace_of(top)
-        if top.tag == ext_tag or normalise_uri(top_uri) in table.xmi_uris:
-            continue
-        if top_uri == uml_ns:
-            model_roots.append(top)
-            _index_subtree(top, id_attr, ext_tag, by_id, diagnostics, file)
-        else:
-            family = families.get(top_uri)
-            if family is None:
-                family = families[top_uri] = table.family(top_uri)
-            app = _stereotype_application(top, top_uri, family)
-            if app is not None:
-                stereotypes.setdefault(app.base_id, []).append(app)
-    if not model_roots:
-        raise ModelReadError(file, "XMI file holds no UML model element", root.sourceline or 0)
-    return RawModel(file, root, dialect, xmi_ns, uml_ns, by_id, stereotypes, model_roots, diagnostics)
+        if normalise_uri(top_uri) in table.xmi_uris:
+            continue  # xmi:Documentation, and every root-level xmi:Extension (tool data, repeated ids)
+        (model_roots if top_uri == uml_ns else applications).append(top)
+    return _Document(root, file, xmi_ns, uml_ns, model_roots, applications)
+
+
+def _spellings(uris: frozenset[str]) -> set[str]:
+    """The spellings a normalised namespace URI may have in a file (http/https, trailing '/')."""
+    found: set[str] = set()
+    for uri in uris:
+        for variant in (uri, "https://" + uri.removeprefix("http://")):
+            found.update((variant, variant + "/"))
+    return found
 
 
 def _index_subtree(
     top: Element,
     id_attr: str,
-    ext_tag: str,
+    ext_tags: frozenset[str],
     by_id: dict[str, Element],
+    profile_applications: list[Element],
     diagnostics: list[Diagnostic],
     file: str,
 ) -> None:
     iterator = top.iter()
     for el in iterator:
         tag = el.tag
-        if tag == ext_tag:
+        if tag in ext_tags:
             # skip the tool's extension block entirely: its copies repeat model ids
             for _ in el.iterdescendants():
                 next(iterator, None)
@@ -324,6 +386,8 @@ def _index_subtree(
         ref_id = el.get(id_attr)
         if ref_id is None:
             continue
+        if tag == "profileApplication":
+            profile_applications.append(el)
         if ref_id in by_id:
             diagnostics.append(
                 Diagnostic(
@@ -339,7 +403,38 @@ def _index_subtree(
         by_id[ref_id] = el
 
 
-def _stereotype_application(el: Element, uri: str, family: str) -> StereotypeApplication | None:
+def earl_profile_uris(raw: RawModel, profile_applications: list[Element]) -> frozenset[str]:
+    """The namespace URIs a file gives its EARL profile, beyond the fixed ones of dialects.toml.
+
+    A profile named EARL (``[earl] profile_names``), reached through a profileApplication or
+    defined in the file, contributes its ``URI`` attribute; one in another resource contributes
+    the resource its href names (MagicDraw writes a profile's href under its URI, as for
+    ``http://www.omg.org/spec/SysML/20181001/SysML.xmi#SysML``) and is known by name from the
+    referentPath beside the href.
+    """
+    names = raw.table.earl_profile_names
+    uris: set[str] = set()
+
+    def add(profile: Element) -> None:
+        uri = (profile.get("URI") or "").strip()
+        if uri and raw.name(profile).strip().lower() in names:
+            uris.add(normalise_uri(uri))
+
+    for application in profile_applications:
+        for target in raw.refs(application, "appliedProfile"):
+            if not isinstance(target, ExternalRef):
+                add(target)
+            elif target.name.lower() in names and "://" in target.resource:
+                resource = normalise_uri(target.resource)
+                uris.update((resource, resource.removesuffix(".xmi")))
+    for top in raw.model_roots:
+        for el in top.iter("packagedElement"):
+            if el.get("URI") and raw.uml_type(el) == "Profile":
+                add(el)
+    return frozenset(uris)
+
+
+def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -> StereotypeApplication | None:
     base_id = ""
     tags: dict[str, str] = {}
     for key, value in el.attrib.items():
@@ -352,40 +447,21 @@ def _stereotype_application(el: Element, uri: str, family: str) -> StereotypeApp
             if isinstance(child.tag, str) and child.tag.startswith("base_"):
                 base_id = next(
                     (v for k, v in child.attrib.items() if k.endswith("}idref")), ""
-                )
+                ) or raw.local_fragment(child.get("href") or "")
     if not base_id:
         return None
+    idref_attr = raw._idref_attr
     for child in el:
-        if isinstance(child.tag, str) and not child.tag.startswith(("{", "base_")) and child.text:
-            previous = tags.get(child.tag)
-            tags[child.tag] = f"{previous} {child.text.strip()}" if previous else child.text.strip()
+        tag = child.tag
+        if not isinstance(tag, str) or tag.startswith(("{", "base_")):
+            continue
+        href = child.get("href")
+        value = child.get(idref_attr) or (raw.local_fragment(href) or href.replace(" ", "%20") if href else "")
+        value = value or (child.text or "").strip()
+        if value:
+            previous = tags.get(tag)
+            tags[tag] = f"{previous} {value}" if previous else value
     return StereotypeApplication(uri, family, etree.QName(el).localname, base_id, tags, el.sourceline or 0)
-
-
-def detect_dialect(root: Element, uml_ns: str, xmi_ns: str) -> str:
-    """Which tool wrote the file: ``papyrus`` (Eclipse UML2), ``cameo`` or ``enterprise-architect``."""
-    for doc in root.iterchildren(f"{{{xmi_ns}}}Documentation", f"{{{xmi_ns}}}documentation"):
-        exporter = doc.get("exporter") or ""
-        for child in doc:
-            if isinstance(child.tag, str) and child.tag.endswith("exporter"):
-                exporter = child.text or exporter
-        if "Enterprise Architect" in exporter:
-            return "enterprise-architect"
-        if "MagicDraw" in exporter:
-            return "cameo"
-    if normalise_uri(uml_ns).startswith(normalise_uri(dialect_table().uml_eclipse_prefix)):
-        nsmap = root.nsmap or {}
-        if any("magicdraw" in (uri or "").lower() for uri in nsmap.values()):
-            return "cameo-eclipse-uml2"
-        return "papyrus"
-    return "omg-xmi"
-
-
-def _find_namespace(nsmap: dict[str, str | None], accepted: frozenset[str]) -> str:
-    for uri in nsmap:
-        if normalise_uri(uri) in accepted:
-            return uri
-    return ""
 
 
 def _namespace_of(el: Element) -> str:

@@ -114,15 +114,16 @@ def test_a_declared_windows_1252_encoding_is_honoured(tmp_path: Path) -> None:
     assert raw.by_id["B"].get("name") == "Contr\u00f4le"
 
 
-def test_a_zip_archive_is_reported_as_unsupported(tmp_path: Path) -> None:
+def test_a_zip_archive_without_a_magicdraw_model_member_is_reported_in_one_line(tmp_path: Path) -> None:
     import zipfile
 
-    path = tmp_path / "project.mdzip"
+    path = tmp_path / "project.zip"
     with zipfile.ZipFile(path, "w") as archive:
-        archive.writestr("com.nomagic.magicdraw.uml_model.model", "<xmi:XMI/>")
+        archive.writestr("model.uml", MODEL)
     with pytest.raises(ModelReadError) as info:
         load_raw_model(path)
-    assert "ZIP" in info.value.one_line()
+    assert "ZIP archive without a MagicDraw model member" in info.value.one_line()
+    assert "\n" not in info.value.one_line()
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,189 @@
+"""The one place that writes generated files: atomically, only inside the output folder,
+and only when their content changes.
+
+Every generator (``earl-m2t profile`` today, code generators later) prepares its files as
+``{relative path: bytes}`` and hands them to :func:`write_files`:
+
+- every path is checked before anything is written: it must be relative, in POSIX form
+  (``src/agent.cpp``), without ``..``, and must stay inside the output folder once
+  symbolic links are followed;
+- a file whose current bytes equal the new ones is left alone (its modification time is
+  kept, so build tools do not rebuild);
+- any other file is written to a temporary file in its own folder and moved over the old
+  one with :func:`os.replace`, so a reader never sees half a file and an interrupted run
+  leaves the previous version in place.
+
+Problems raise :class:`OutputError` with a one-line message.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+import tempfile
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path, PurePosixPath
+
+__all__ = ["OutputError", "WriteReport", "check_relative_path", "write_files"]
+
+_DRIVE = re.compile(r"^[A-Za-z]:")  # a Windows drive ("C:..."): never relative
+
+
+class OutputError(Exception):
+    """A generated file cannot be written (bad path, unwritable folder...)."""
+
+
+@dataclass(frozen=True)
+class WriteReport:
+    """What :func:`write_files` did: relative paths (POSIX form) in the order processed."""
+
+    out_dir: Path
+    written: tuple[str, ...]
+    unchanged: tuple[str, ...]
+
+    def lines(self) -> list[str]:
+        """One line per file, in path order: ``wrote DIR/x`` or ``unchanged DIR/x``."""
+        status = {path: "wrote" for path in self.written}
+        status.update({path: "unchanged" for path in self.unchanged})
+        return [f"{status[path]} {self.out_dir / path}" for path in sorted(status)]
+
+
+def check_relative_path(name: str) -> PurePosixPath:
+    """The normalised relative path for ``name``; raises OutputError when it could leave
+    the output folder or is not a plain relative file path."""
+    if not name or "\x00" in name or "\\" in name:
+        raise OutputError(f"invalid output path {name!r}")
+    path = PurePosixPath(name)
+    if path.is_absolute() or _DRIVE.match(name):
+        raise OutputError(f"output path {name!r} is absolute; it must be relative to the output folder")
+    if ".." in path.parts:
+        raise OutputError(f"output path {name!r} leaves the output folder")
+    if not path.parts or path == PurePosixPath("."):
+        raise OutputError(f"output path {name!r} names no file")
+    return path
+
+
+def write_files(out_dir: Path | str, files: Mapping[str, bytes]) -> WriteReport:
+    """Write ``files`` (relative path → content) under ``out_dir``, creating folders as needed.
+
+    All paths are validated before the first write. Returns which files were written and
+    which were already up to date. Raises OutputError.
+    """
+    root_given = Path(out_dir)
+    planned: dict[PurePosixPath, bytes] = {}
+    for name, content in files.items():
+        relative = check_relative_path(name)
+        if relative in planned:
+            raise OutputError(f"output path {name!r} is given twice")
+        planned[relative] = bytes(content)
+
+    root = _prepare_root(root_given)
+    targets: list[tuple[PurePosixPath, Path, bytes]] = []
+    for relative, content in sorted(planned.items()):
+        target = root.joinpath(*relative.parts)
+        resolved = target.resolve()
+        if not resolved.is_relative_to(root):
+            raise OutputError(f"output path {str(relative)!r} leads outside {root_given} (through a symbolic link)")
+        targets.append((relative, target, content))
+
+    written: list[str] = []
+    unchanged: list[str] = []
+    for relative, target, content in targets:
+        if _same_content(target, content):
+            unchanged.append(str(relative))
+            continue
+        _write_atomically(target, content, root_given / str(relative))
+        written.append(str(relative))
+    return WriteReport(root_given, tuple(written), tuple(unchanged))
+
+
+# ---------------------------------------------------------------- internals
+
+
+def _prepare_root(root: Path) -> Path:
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise OutputError(f"cannot write to {root}: it exists and is not a folder") from None
+    except OSError as error:
+        raise OutputError(f"cannot create output folder {root}: {_reason(error)}") from None
+    if not root.is_dir():
+        raise OutputError(f"cannot write to {root}: it is not a folder")
+    return root.resolve()
+
+
+def _same_content(target: Path, content: bytes) -> bool:
+    try:
+        info = target.lstat()
+    except FileNotFoundError:
+        return False
+    except OSError as error:
+        raise OutputError(f"cannot read {target}: {_reason(error)}") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise OutputError(f"cannot write {target}: it is a folder")
+    if not stat.S_ISREG(info.st_mode) or info.st_size != len(content):
+        return False
+    try:
+        return target.read_bytes() == content
+    except OSError as error:
+        raise OutputError(f"cannot read {target}: {_reason(error)}") from None
+
+
+def _write_atomically(target: Path, content: bytes, shown: Path) -> None:
+    folder = target.parent
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputError(f"cannot create folder for {shown}: {_reason(error)}") from None
+    mode = _mode_for(target)
+    try:
+        handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
+    except OSError as error:
+        raise OutputError(f"cannot write {shown}: {_reason(error)}") from None
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(content)
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.chmod(temporary, mode)
+        os.replace(temporary, target)
+    except OSError as error:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        raise OutputError(f"cannot write {shown}: {_reason(error)}") from None
+    _sync_folder(folder)
+
+
+def _mode_for(target: Path) -> int:
+    """Keep the permissions of the file being replaced; a new file gets the usual ones."""
+    try:
+        info = target.stat()
+        if stat.S_ISREG(info.st_mode):
+            return stat.S_IMODE(info.st_mode)
+    except OSError:
+        pass
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+def _sync_folder(folder: Path) -> None:
+    """Make the rename durable where the platform allows fsync on a folder."""
+    try:
+        descriptor = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(descriptor)
+    except OSError:
+        pass
+    finally:
+        os.close(descriptor)
+
+
+def _reason(error: OSError) -> str:
+    return error.strerror or str(error)
