@@ -1,4 +1,4 @@
-"""The ``--dialect NAME`` option shared by ``check`` and ``show``: override dialect detection."""
+"""The ``--dialect NAME`` option shared by ``check``, ``show`` and ``stats``: override dialect detection."""
 
 from __future__ import annotations
 

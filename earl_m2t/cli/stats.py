@@ -8,8 +8,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from earl_m2t.api import load
+from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.lift import lift
 from earl_m2t.read.xmi import load_raw_model
 from earl_m2t.stats import Stats, model_stats
 
@@ -34,18 +35,19 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("stats", help="count the SysML elements of a model file (any model, EARL or not)")
     parser.add_argument("model", metavar="MODEL")
     parser.add_argument("--format", choices=("text", "json"), default="text")
+    add_dialect_option(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     path = Path(args.model)
     try:
-        raw = load_raw_model(path)
+        raw = load_raw_model(path, args.dialect)
         size = path.stat().st_size
-        earl = load(path).model
     except ModelReadError as exc:
         print(exc.one_line(), file=sys.stderr)
         return 2
+    earl = lift(raw).model  # the same read serves the counts and the EARL figures
     stats = model_stats(raw, file_size=size, earl=earl)
     if args.format == "json":
         sys.stdout.write(json.dumps(stats_to_dict(stats), indent=2, ensure_ascii=False) + "\n")
