@@ -1,36 +1,138 @@
-"""Write the reference sample ``samples/pick_and_place/pick_and_place.uml``.
+"""Write the reference sample ``samples/pick_and_place/`` in three tool dialects.
 
 The sample is the pick-and-place system of the EARL paper (Electronics 2020, 9(2), 379,
-Section 3) with N = 6 joints, modelled as Eclipse Papyrus with SysML 1.6 saves it and
-following ``docs/modelling-guide.md``: an EARL stereotype on every EARL element, names with the
-paper's suffixes, Tables 4-7 for the manipulator's control subsystem.
+Section 3) with N = 6 joints, following ``docs/modelling-guide.md``: an EARL stereotype on
+every EARL element, names with the paper's suffixes, Tables 4-7 for the manipulator's
+control subsystem. The content is built once, by the functions below, against the builder
+interface that ``tests/support/papyrus_builder.py``, ``cameo_builder.py`` and
+``ea_builder.py`` share; each builder writes it the way its tool saves a model:
 
-Usage: ``python scripts/make_sample.py [output]``. The output is deterministic: running
-the script twice gives byte-identical files.
+- ``pick_and_place.uml``: Eclipse Papyrus 6.x with SysML 1.6 (Eclipse UML2 5.x XMI);
+- ``pick_and_place.cameo.xmi``: Cameo Systems Modeler 2022x native project XMI (the
+  ``com.nomagic.magicdraw.uml_model.model`` member of an ``.mdzip``);
+- ``pick_and_place.ea.xml``: Enterprise Architect 16 "XMI 2.1" export (windows-1252).
+
+Usage: ``python scripts/make_sample.py`` writes the three files;
+``python scripts/make_sample.py [--dialect papyrus|cameo|ea] OUTPUT`` writes one of them to
+``OUTPUT`` (Papyrus by default). The output is deterministic: running the script twice gives
+byte-identical files.
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
+from typing import Any, NamedTuple, Protocol
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from tests.support.papyrus_builder import (  # noqa: E402
-    BOOLEAN,
-    REAL,
-    Block,
-    End,
-    ModelBuilder,
-    OpaqueBehavior,
-    Package,
-    Property,
-)
+from tests.support import cameo_builder, ea_builder, papyrus_builder  # noqa: E402
 
 N_JOINTS = 6
-SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+SAMPLE_DIR = ROOT / "samples" / "pick_and_place"
+SAMPLE = SAMPLE_DIR / "pick_and_place.uml"
+
+
+# ---- the builder interface the three dialects share ------------------------------------------
+
+
+class Property(Protocol):
+    """A port, part, value property or field."""
+
+    @property
+    def name(self) -> str | None: ...
+
+    @property
+    def type(self) -> Any: ...
+
+
+class Behavior(Protocol):
+    """A pf or pp."""
+
+    @property
+    def name(self) -> str | None: ...
+
+
+class Activity(Protocol):
+    def stages(self, stages: Sequence[Sequence[Any]]) -> Any: ...
+
+
+class State(Protocol):
+    @property
+    def name(self) -> str | None: ...
+
+    def do_activity(self, name: str | None = ..., tc: str | None = ..., ec: str | None = ...) -> Activity: ...
+
+
+class StateMachine(Protocol):
+    def state(self, name: str, initial: bool = ...) -> State: ...
+
+    def transition(self, source: Any, target: Any, guard: str | None = ..., name: str | None = ...,
+                   priority: int = ...) -> Any: ...  # fmt: skip
+
+
+class DataType(Protocol):
+    def field(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
+
+
+class Block(Protocol):
+    @property
+    def attributes(self) -> Sequence[Property]: ...
+
+    def comment(self, body: str) -> Any: ...
+    def part(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
+    def input_buffer(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
+    def output_buffer(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
+    def memory(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
+    def connector(self, name: str, source: Any, target: Any, stereotype: str | None = ...) -> Any: ...
+    def state_machine(self) -> StateMachine: ...
+    def primitive_predicate(self, name: str, body: str) -> Behavior: ...
+    def exclusion(self, name: str, predicates: Sequence[Any] = ..., body: str | None = ...) -> Any: ...
+    def partial_transition_function(self, name: str, reads: Sequence[Any] = ..., writes: Sequence[Any] = ...,
+                                    body: str = ...) -> Behavior: ...  # fmt: skip
+
+
+class Package(Protocol):
+    def data_type(self, name: str) -> DataType: ...
+    def block(self, name: str, stereotype: str | None = ..., tags: Mapping[str, Any] | None = ...) -> Block: ...
+
+
+class ModelBuilder(Protocol):
+    def package(self, name: str) -> Package: ...
+    def comment(self, body: str) -> Any: ...
+    def to_bytes(self) -> bytes: ...
+
+
+class Dialect(NamedTuple):
+    """One tool's builder: how to start a model, make a connector end, name the primitive types."""
+
+    name: str
+    sample: Path
+    model_builder: Callable[..., ModelBuilder]
+    end_at: Callable[..., Any]
+    real: Any
+    boolean: Any
+
+
+DIALECTS: dict[str, Dialect] = {
+    "papyrus": Dialect(
+        "papyrus", SAMPLE, papyrus_builder.ModelBuilder, papyrus_builder.End.at,
+        papyrus_builder.REAL, papyrus_builder.BOOLEAN,
+    ),
+    "cameo": Dialect(
+        "cameo", SAMPLE_DIR / "pick_and_place.cameo.xmi", cameo_builder.ModelBuilder, cameo_builder.End.at,
+        cameo_builder.REAL, cameo_builder.BOOLEAN,
+    ),
+    "ea": Dialect(
+        "ea", SAMPLE_DIR / "pick_and_place.ea.xml", ea_builder.ModelBuilder, ea_builder.End.at,
+        ea_builder.REAL, ea_builder.BOOLEAN,
+    ),
+}  # fmt: skip
+
+# ---- the content ---------------------------------------------------------------------------------
 
 # Table 6: initial conditions of manip/a.cs transitions and terminal conditions of its behaviours.
 NEW_JOINT = "newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun"
@@ -44,15 +146,16 @@ IDLE_TC = "newJointPos/pp.fun ∨ newOperationalPos/pp.fun ∨ emergencyStop/pp.
 class DataTypes:
     """The DataTypes package (paper Figs. 9 and 11)."""
 
-    def __init__(self, pkg: Package) -> None:
+    def __init__(self, pkg: Package, real: Any, boolean: Any) -> None:
+        self.real, self.boolean = real, boolean
         self.vector3 = pkg.data_type("Vector3")
         for axis in ("x", "y", "z"):
-            self.vector3.field(axis, REAL)
+            self.vector3.field(axis, real)
         self.quaternion = pkg.data_type("Quaternion")
         for axis in ("x", "y", "z", "w"):
-            self.quaternion.field(axis, REAL)
+            self.quaternion.field(axis, real)
         self.joint_position = pkg.data_type("JointPosition")
-        self.joint_position.field("q", REAL, N_JOINTS)
+        self.joint_position.field("q", real, N_JOINTS)
         self.oper_position = pkg.data_type("OperPosition")
         self.oper_position.field("position", self.vector3)
         self.oper_position.field("orientation", self.quaternion)
@@ -60,33 +163,33 @@ class DataTypes:
         self.manipulator_command = pkg.data_type("ManipulatorCommand")
         self.manipulator_command.field("jointPosSetpoint", self.joint_position, "0..1")
         self.manipulator_command.field("operationalPosSetpoint", self.oper_position, "0..1")
-        self.manipulator_command.field("emergencyStopCommand", BOOLEAN)
+        self.manipulator_command.field("emergencyStopCommand", boolean)
         self.manipulator_state = pkg.data_type("ManipulatorState")
         self.manipulator_state.field("currentJointPos", self.joint_position)
         self.manipulator_state.field("currentOperationalPos", self.oper_position)
-        self.manipulator_state.field("motionFinished", BOOLEAN)
-        self.manipulator_state.field("emergencyStop", BOOLEAN)
+        self.manipulator_state.field("motionFinished", boolean)
+        self.manipulator_state.field("emergencyStop", boolean)
         self.gripper_command = pkg.data_type("GripperCommand")
-        self.gripper_command.field("desiredFingerPos", REAL)
-        self.gripper_command.field("emergencyStopCommand", BOOLEAN)
+        self.gripper_command.field("desiredFingerPos", real)
+        self.gripper_command.field("emergencyStopCommand", boolean)
         self.gripper_status = pkg.data_type("GripperStatus")
-        self.gripper_status.field("currentFingerPos", REAL)
-        self.gripper_status.field("motionFinished", BOOLEAN)
-        self.gripper_status.field("emergencyStop", BOOLEAN)
+        self.gripper_status.field("currentFingerPos", real)
+        self.gripper_status.field("motionFinished", boolean)
+        self.gripper_status.field("emergencyStop", boolean)
 
         self.motor_controller_command = pkg.data_type("MotorControllerCommand")
-        self.motor_controller_command.field("desiredWindingCurrent", REAL)
-        self.motor_controller_command.field("emergencyStopCommand", BOOLEAN)
+        self.motor_controller_command.field("desiredWindingCurrent", real)
+        self.motor_controller_command.field("emergencyStopCommand", boolean)
         self.motor_controller_state = pkg.data_type("MotorControllerState")
-        self.motor_controller_state.field("motorPos", REAL)
-        self.motor_controller_state.field("emergencyStopCommand", BOOLEAN)
+        self.motor_controller_state.field("motorPos", real)
+        self.motor_controller_state.field("emergencyStopCommand", boolean)
         self.motor_current = pkg.data_type("MotorCurrent")
-        self.motor_current.field("current", REAL)
+        self.motor_current.field("current", real)
         self.encoder_reading = pkg.data_type("EncoderReading")
-        self.encoder_reading.field("position", REAL)
+        self.encoder_reading.field("position", real)
 
 
-def _single_state(block: Block, state: str, pf: OpaqueBehavior) -> None:
+def _single_state(block: Block, state: str, pf: Behavior) -> None:
     """An FSM of one initial state whose behaviour runs ``pf`` and never terminates."""
     fsm = block.state_machine()
     fsm.state(state, initial=True).do_activity(tc="FALSE", ec="FALSE").stages([[pf]])
@@ -99,8 +202,8 @@ def motor_controller(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Bl
     state = ve.output_buffer("motorControllerState/ob", dt.motor_controller_state)
     current = ve.output_buffer("desiredCurrent/ob", dt.motor_current)
     encoder = ve.input_buffer("encoder/ib", dt.encoder_reading)
-    ve.memory("desiredPosition/m", REAL)
-    integral = ve.memory("integralError/m", REAL)
+    ve.memory("desiredPosition/m", dt.real)
+    integral = ve.memory("integralError/m", dt.real)
     pf = ve.partial_transition_function(
         pf_name,
         reads=[command, encoder, integral],
@@ -116,7 +219,7 @@ def motor(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Block:
     re = pkg.block(name, "RealEffector")
     current = re.input_buffer("desiredCurrent/ib", dt.motor_current)
     encoder = re.output_buffer("encoder/ob", dt.encoder_reading)
-    position = re.memory("position/m", REAL)
+    position = re.memory("position/m", dt.real)
     pf = re.partial_transition_function(
         pf_name,
         reads=[current, position],
@@ -168,11 +271,11 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
     mc_command = cs.output_buffer("motorControllerCommandK/ob", dt.motor_controller_command, N_JOINTS)
 
     # Table 4
-    motion_finished = cs.memory("motionFinished/m", BOOLEAN)
+    motion_finished = cs.memory("motionFinished/m", dt.boolean)
     operational_pos = cs.memory("currentOperationalPos/m", dt.oper_position)
     joint_pos = cs.memory("currentJointPos/m", dt.joint_position)
-    stop_command = cs.memory("emergencyStopCommandK/m", BOOLEAN, N_JOINTS)
-    winding_current = cs.memory("windingCurrentK/m", REAL, N_JOINTS)
+    stop_command = cs.memory("emergencyStopCommandK/m", dt.boolean, N_JOINTS)
+    winding_current = cs.memory("windingCurrentK/m", dt.real, N_JOINTS)
 
     # Table 5
     cs.primitive_predicate(
@@ -284,27 +387,28 @@ def port(block: Block, name: str) -> Property:
     return next(p for p in block.attributes if p.name == name)
 
 
-def link(agent: Block, source: tuple[Property, str], target: tuple[Property, str]) -> None:
+def link(agent: Block, source: tuple[Property, str], target: tuple[Property, str], end_at: Callable[..., Any]) -> None:
     """An inter-subsystem link of ``agent`` from ``source`` to ``target``, each (part, port name)."""
     (src_part, src_port), (dst_part, dst_port) = source, target
     src_type, dst_type = src_part.type, dst_part.type
-    assert isinstance(src_type, Block) and isinstance(dst_type, Block)
     agent.connector(
         f"{src_part.name},{dst_part.name}",
-        End.at(port(src_type, src_port), src_part),
-        End.at(port(dst_type, dst_port), dst_part),
+        end_at(port(src_type, src_port), src_part),
+        end_at(port(dst_type, dst_port), dst_part),
         "InterSubsystemLink",
     )
 
 
-def build(stereotypes: bool = True) -> bytes:
-    """Build the sample and return its XMI; ``stereotypes=False`` gives the suffix-only variant."""
-    mb = ModelBuilder("PickAndPlace", stereotypes=stereotypes)
+def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
+    """Build the sample in ``dialect`` and return its XMI; ``stereotypes=False`` gives the
+    suffix-only variant."""
+    kit = DIALECTS[dialect]
+    mb = kit.model_builder("PickAndPlace", stereotypes=stereotypes)
     mb.comment(
         "Pick-and-place robot system of the EARL paper (Electronics 2020, 9(2), 379, Section 3): "
         f"a {N_JOINTS}-DOF manipulator agent, a gripper agent and a task agent supervising them."
     )
-    dt = DataTypes(mb.package("DataTypes"))
+    dt = DataTypes(mb.package("DataTypes"), kit.real, kit.boolean)
     pkg = mb.package("SystemInstance")
 
     system = pkg.block("PickAndPlaceSystem", "System")
@@ -337,18 +441,18 @@ def build(stereotypes: bool = True) -> bytes:
     manip_cs_part = manip_agent.part("cs", manip_cs)
     mc_part = manip_agent.part("motorControllerK/ve", motor_ctrl, N_JOINTS)
     motor_part = manip_agent.part("motorK/re", motor_blk, N_JOINTS)
-    link(manip_agent, (manip_cs_part, "motorControllerCommandK/ob"), (mc_part, "motorControllerCommand/ib"))
-    link(manip_agent, (mc_part, "motorControllerState/ob"), (manip_cs_part, "motorControllerStateK/ib"))
-    link(manip_agent, (mc_part, "desiredCurrent/ob"), (motor_part, "desiredCurrent/ib"))
-    link(manip_agent, (motor_part, "encoder/ob"), (mc_part, "encoder/ib"))
+    link(manip_agent, (manip_cs_part, "motorControllerCommandK/ob"), (mc_part, "motorControllerCommand/ib"), kit.end_at)
+    link(manip_agent, (mc_part, "motorControllerState/ob"), (manip_cs_part, "motorControllerStateK/ib"), kit.end_at)
+    link(manip_agent, (mc_part, "desiredCurrent/ob"), (motor_part, "desiredCurrent/ib"), kit.end_at)
+    link(manip_agent, (motor_part, "encoder/ob"), (mc_part, "encoder/ib"), kit.end_at)
 
     grip_cs_part = grip_agent.part("cs", grip_cs)
     finger_ctrl_part = grip_agent.part("fingerController/ve", finger_ctrl)
     finger_motor_part = grip_agent.part("fingerMotor/re", finger_motor)
-    link(grip_agent, (grip_cs_part, "fingerCommand/ob"), (finger_ctrl_part, "motorControllerCommand/ib"))
-    link(grip_agent, (finger_ctrl_part, "motorControllerState/ob"), (grip_cs_part, "fingerState/ib"))
-    link(grip_agent, (finger_ctrl_part, "desiredCurrent/ob"), (finger_motor_part, "desiredCurrent/ib"))
-    link(grip_agent, (finger_motor_part, "encoder/ob"), (finger_ctrl_part, "encoder/ib"))
+    link(grip_agent, (grip_cs_part, "fingerCommand/ob"), (finger_ctrl_part, "motorControllerCommand/ib"), kit.end_at)
+    link(grip_agent, (finger_ctrl_part, "motorControllerState/ob"), (grip_cs_part, "fingerState/ib"), kit.end_at)
+    link(grip_agent, (finger_ctrl_part, "desiredCurrent/ob"), (finger_motor_part, "desiredCurrent/ib"), kit.end_at)
+    link(grip_agent, (finger_motor_part, "encoder/ob"), (finger_ctrl_part, "encoder/ib"), kit.end_at)
 
     # Inter-agent links (Fig. 9): ends reach the cs ports through nested parts.
     task_path = (task_part, task_cs_part)
@@ -368,19 +472,26 @@ def build(stereotypes: bool = True) -> bytes:
         (src_cs, src_path), (dst_cs, dst_path) = ends[source], ends[target]
         system.connector(
             f"{source},{target}",
-            End.at(port(src_cs, f"{message}/ob"), *src_path),
-            End.at(port(dst_cs, f"{message}/ib"), *dst_path),
+            kit.end_at(port(src_cs, f"{message}/ob"), *src_path),
+            kit.end_at(port(dst_cs, f"{message}/ib"), *dst_path),
             "InterAgentLink",
         )
     return mb.to_bytes()
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = sys.argv[1:] if argv is None else argv
-    target = Path(args[0]) if args else SAMPLE
-    target.parent.mkdir(parents=True, exist_ok=True)
-    target.write_bytes(build())
-    print(f"wrote {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
+    args = sys.argv[1:] if argv is None else list(argv)
+    dialect = "papyrus"
+    if args[:1] == ["--dialect"] and len(args) >= 2:
+        dialect, args = args[1], args[2:]
+    if dialect not in DIALECTS:
+        print(f"unknown dialect {dialect!r}; choose from {', '.join(DIALECTS)}", file=sys.stderr)
+        return 2
+    jobs = [(dialect, Path(args[0]))] if args else [(name, kit.sample) for name, kit in DIALECTS.items()]
+    for name, target in jobs:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(build(dialect=name))
+        print(f"wrote {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
     return 0
 
 
