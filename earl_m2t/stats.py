@@ -15,7 +15,7 @@ from functools import cache
 from typing import Any
 
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.read.xmi import RawModel
+from earl_m2t.read.xmi import RawModel, stereotype_key
 from earl_m2t.resources import metamodel_path
 
 TYPE_COUNTS = ("ports", "connectors", "state_machines", "transitions", "activities", "data_types", "packages")
@@ -29,7 +29,7 @@ FAMILIES = ("sysml", "earl", "other")
 
 @dataclass(frozen=True)
 class StereotypeCount:
-    """SysML stereotypes (local names, lower-case) and the metaclasses they may extend."""
+    """SysML stereotypes (local names as :func:`stereotype_key` reduces them) and the metaclasses they may extend."""
 
     names: frozenset[str]
     extends: frozenset[str]
@@ -76,7 +76,9 @@ def parse_definitions(text: str) -> StatsDefinitions:
         part_aggregation=parts["aggregation"],
         stereotypes={
             key: StereotypeCount(
-                names=frozenset(n.lower() for n in _strings(stereotypes[key].get("names"), f"stereotypes.{key}.names")),
+                names=frozenset(
+                    stereotype_key(n) for n in _strings(stereotypes[key].get("names"), f"stereotypes.{key}.names")
+                ),
                 extends=_strings(stereotypes[key].get("extends"), f"stereotypes.{key}.extends"),
             )
             for key in STEREOTYPE_COUNTS
@@ -146,6 +148,8 @@ def model_stats(
 
     counts: Counter[str] = Counter()
     for el in raw.by_id.values():
+        if raw.is_copy(el):
+            continue  # a tool's copy of a port or part shown on a part (Enterprise Architect)
         uml_type = raw.uml_type(el)
         for key in by_type.get(uml_type, ()):
             counts[key] += 1
@@ -162,11 +166,14 @@ def model_stats(
             by_name.setdefault(name, []).append((key, definition))
     families: Counter[str] = Counter()
     for base_id, applications in raw.stereotypes.items():
+        copied = raw.by_id.get(base_id)
+        if copied is not None and raw.is_copy(copied):
+            continue
         for app in applications:
             families[app.family if app.family in FAMILIES else "other"] += 1
             if app.family != "sysml":
                 continue
-            matches = by_name.get(app.name.lower())
+            matches = by_name.get(stereotype_key(app.name))
             if not matches:
                 continue
             base = raw.by_id.get(base_id)

@@ -1,5 +1,5 @@
-"""Every file of the shared corpus of real third-party models goes through ``show`` and ``check``:
-no traceback, the expected dialect, the documented exit codes, in reasonable time.
+"""Every file of the shared corpus of real third-party models goes through ``show``, ``check`` and
+``stats``: no traceback, the expected dialect, the documented exit codes, in reasonable time.
 
 The corpus (``../shared/corpus`` beside the checkout, see its README) holds no EARL model, so
 ``check`` reports R003 on every file it can read. The tests are skipped without the corpus.
@@ -25,9 +25,9 @@ READ = {
     "other/papyrus-uml-marte-no-sysml-producer-consumer.uml": "papyrus",
     "cameo/cameo-to-capella-md-emf-uml2-export.uml": "cameo-eclipse-uml2",
     "cameo/": "cameo",  # the .mdzip projects and their model members
+    "ea/": "enterprise-architect",
 }
 REFUSED = {
-    "ea/": "Enterprise Architect XMI is not supported yet",
     "other/sysmlv2-xmi-ports-library.sysmlx": "SysML v2 XMI (.sysmlx) is not supported",
     "sysmlv2/": "SysML v2 textual models are not supported yet",
 }
@@ -73,21 +73,24 @@ def test_every_corpus_file_has_an_expectation() -> None:
 
 @needs_corpus
 @pytest.mark.parametrize("relative", corpus_files())
-def test_a_corpus_file_is_shown_and_checked_without_a_traceback(relative: str) -> None:
+def test_a_corpus_file_is_shown_checked_and_counted_without_a_traceback(relative: str) -> None:
     path = str(CORPUS / relative)
     refused = REFUSED.get(relative) or (None if relative in READ else expected(relative, REFUSED))
     shown, shown_time = earl("show", "--format", "json", path)
     checked, checked_time = earl("check", path)
-    no_traceback(shown)
-    no_traceback(checked)
-    assert shown_time < SECONDS and checked_time < SECONDS
+    counted, counted_time = earl("stats", "--format", "json", path)
+    for result in (shown, checked, counted):
+        no_traceback(result)
+    assert shown_time < SECONDS and checked_time < SECONDS and counted_time < SECONDS
     if refused is not None:
-        for result in (shown, checked):
+        for result in (shown, checked, counted):
             assert result.returncode == 2, result.stderr
             assert result.stderr.count("\n") == 1 and result.stderr.startswith(path)
             assert refused in result.stderr
-        assert shown.stdout == ""
+        assert shown.stdout == "" and counted.stdout == ""
         return
+    assert counted.returncode == 0, counted.stderr
+    assert json.loads(counted.stdout)["dialect"] == expected(relative, READ)
     assert shown.returncode == 0, shown.stderr
     document = json.loads(shown.stdout)
     assert document["dialect"] == expected(relative, READ)

@@ -94,7 +94,7 @@ class DataTypeLifter:
     def _qualified_name(self, el: Element) -> str:
         names = [self.raw.name(el) or self.raw.xmi_id(el)]
         owner = self.raw.owner(el)
-        while owner is not None and self.raw.uml_type(owner) not in ("Model", ""):
+        while owner is not None and self.raw.uml_type(owner) and not self.raw.is_model(owner):
             names.append(self.raw.name(owner))
             owner = self.raw.owner(owner)
         return "::".join(reversed(names))

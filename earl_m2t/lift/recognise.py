@@ -8,15 +8,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from earl_m2t.profile import Profile
-from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+from earl_m2t.read.xmi import Element, ExternalRef, RawModel, stereotype_key
 
 # Package names that hold the EARL *Model* blocks a user model specialises (paper Fig. 1).
 MODEL_PACKAGE_NAMES = frozenset({"model", "earl", "earl model", "earlmodel", "earl::model"})
 
 
 def _key(name: str) -> str:
-    """Match stereotype names as tools write them (EA: ``Input_Buffer``, lower case)."""
-    return name.replace("_", "").replace(" ", "").lower()
+    """Match stereotype and block names as tools write them (EA: ``Input_Buffer``, lower case)."""
+    return stereotype_key(name)
 
 
 @dataclass(frozen=True, slots=True)

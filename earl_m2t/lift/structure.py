@@ -10,6 +10,7 @@ from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
 from earl_m2t.model.elements import Agent, BasicBehaviour, Buffer, Fsm, Link, Memory, Robot, Subsystem, System
+from earl_m2t.read.connector_ends import EndTarget, resolve_end
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 def computed_agent_type(has_e: bool, has_r: bool, has_t: bool) -> str:
@@ -250,11 +251,10 @@ class StructureLifter:
         return _SubsystemInstance(subsystem, part, ports)
 
     # -- links -------------------------------------------------------------------------------
-    def _end_buffers(self, end: Element, parts: dict[int, list[_SubsystemInstance]]) -> list[str] | None:
+    def _end_buffers(self, end: EndTarget, parts: dict[int, list[_SubsystemInstance]]) -> list[str] | None:
         """Buffer paths one connector end stands for; None when it is not a subsystem buffer."""
-        role = self.raw.ref(end, "role")
-        part = self.raw.ref(end, "partWithPort")
-        if role is None or isinstance(role, ExternalRef) or part is None or isinstance(part, ExternalRef):
+        role, part = end.role, end.part_with_port
+        if role is None or part is None:
             return None
         instances = parts.get(id(part))
         if not instances:
@@ -273,7 +273,7 @@ class StructureLifter:
             parts.setdefault(id(inst.part), []).append(inst)
         links = []
         for connector in self.raw.children(block, "ownedConnector"):
-            ends = [self._end_buffers(e, parts) for e in self.raw.children(connector, "end")]
+            ends = [self._end_buffers(resolve_end(self.raw, e), parts) for e in self.raw.children(connector, "end")]
             links.extend(self._links(connector, ends, "agent", agent_path))
         return links
 
@@ -285,12 +285,9 @@ class StructureLifter:
         return links
 
     def _nested_end_buffers(self, end: Element, agents: list[_AgentInstance]) -> list[str] | None:
-        """Resolve an end with a SysML NestedConnectorEnd propertyPath (robot part, agent part, …)."""
-        path_ids: list[str] = []
-        for app in self.raw.applied(end):
-            if app.name == "NestedConnectorEnd" and "propertyPath" in app.tags:
-                path_ids = app.tags["propertyPath"].split()
-        path_parts = [p for p in (self.raw.by_id.get(i) for i in path_ids) if p is not None]
+        """Resolve an end nested through a robot part and an agent part (SysML NestedConnectorEnd)."""
+        target = resolve_end(self.raw, end)
+        path_parts = list(target.path)
         agent_parts = {id(a.part) for a in agents}
         agent_part = next((p for p in reversed(path_parts) if id(p) in agent_parts), None)
         if agent_part is None:
@@ -304,7 +301,7 @@ class StructureLifter:
             parts: dict[int, list[_SubsystemInstance]] = {}
             for inst in agent.subsystems:
                 parts.setdefault(id(inst.part), []).append(inst)
-            buffers = self._end_buffers(end, parts)
+            buffers = self._end_buffers(target, parts)
             if buffers is None:
                 return None
             found.extend(buffers)

@@ -62,6 +62,10 @@ class DialectTable:
     earl_profile_names: frozenset[str] = frozenset()
     local_resource_prefixes: tuple[str, ...] = ()
     mdzip_members: tuple[str, ...] = ()
+    wrapper_model_names: frozenset[str] = frozenset()
+    stereotype_name_attributes: tuple[str, ...] = ()
+    copy_features: frozenset[str] = frozenset()
+    member_features: tuple[str, ...] = ()
 
     def __hash__(self) -> int:
         return id(self)
@@ -130,6 +134,10 @@ def dialect_table() -> DialectTable:
         earl_profile_names=frozenset(n.lower() for n in data["earl"].get("profile_names", ())),
         local_resource_prefixes=tuple(data.get("references", {}).get("local_resource_prefixes", ())),
         mdzip_members=tuple(data.get("mdzip", {}).get("model_members", ())),
+        wrapper_model_names=frozenset(data.get("models", {}).get("wrapper_names", ())),
+        stereotype_name_attributes=tuple(data.get("stereotypes", {}).get("name_attributes", ())),
+        copy_features=frozenset(data.get("connector_ends", {}).get("copy_features", ())),
+        member_features=tuple(data.get("connector_ends", {}).get("member_features", ())),
     )
 
 

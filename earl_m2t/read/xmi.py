@@ -38,6 +38,7 @@ __all__ = [
     "index_tree",
     "load_raw_model",
     "normalise_uri",
+    "stereotype_key",
 ]
 
 
@@ -65,6 +66,12 @@ class ExternalRef:
     def name(self) -> str:
         """The target's own name, the last segment of ``path`` ("" when unknown)."""
         return self.path.rpartition("::")[2].strip()
+
+
+def stereotype_key(name: str) -> str:
+    """A stereotype name as tools may spell it, reduced for comparison: Enterprise Architect
+    writes ``Input_Buffer`` (or ``Input Buffer`` in ``__EAStereoName``) and ``block``."""
+    return name.replace("_", "").replace(" ", "").lower()
 
 
 @dataclass(frozen=True, slots=True)
@@ -130,6 +137,32 @@ class RawModel:
     def name(self, el: Element) -> str:
         return el.get("name") or ""
 
+    # -- models ------------------------------------------------------------------------------
+    def is_wrapper(self, el: Element) -> bool:
+        """A tool's export wrapper, not a model of the user's (``[models] wrapper_names``)."""
+        return self.uml_type(el) == "Model" and self.name(el) in self.table.wrapper_model_names
+
+    def models(self) -> list[Element]:
+        """The user's models: the UML roots, or the packages a tool's wrapper holds."""
+        found: list[Element] = []
+        for root in self.model_roots:
+            if self.is_wrapper(root):
+                found.extend(self.children(root, "packagedElement", "Package", "Model") or [root])
+            else:
+                found.append(root)
+        return found
+
+    def is_model(self, el: Element) -> bool:
+        """Whether qualified names stop at this element: a uml:Model, or a package a wrapper holds."""
+        if self.uml_type(el) == "Model":
+            return True
+        parent = el.getparent()
+        return parent is not None and el.tag == "packagedElement" and self.is_wrapper(parent)
+
+    @property
+    def model_name(self) -> str:
+        return next((self.name(m) for m in self.models() if self.name(m)), "")
+
     def uml_type(self, el: Element) -> str:
         """The UML metaclass of an element (``Class``, ``Port``…), from ``xmi:type`` or its feature."""
         declared = el.get(self._type_attr)
@@ -158,6 +191,10 @@ class RawModel:
         if parent is None or (parent.getparent() is None and _namespace_of(parent) != self.uml_ns):
             return None
         return parent
+
+    def is_copy(self, el: Element) -> bool:
+        """A tool's copy of a member of a part's type, kept under the part (``[connector_ends]``)."""
+        return el.tag in self.table.copy_features and self.uml_type(el) in ("Port", "Property")
 
     # -- references --------------------------------------------------------------------------
     def refs(self, el: Element, feature: str) -> list[Element | ExternalRef]:
@@ -210,11 +247,15 @@ class RawModel:
     def applied(self, el: Element) -> list[StereotypeApplication]:
         return self.stereotypes.get(self.xmi_id(el), [])
 
-    def has_sysml(self, el: Element, name: str) -> bool:
-        return any(
-            app.family == "sysml" and app.name.lower() == name.lower()
-            for app in self.applied(el)
+    def sysml_application(self, el: Element, name: str) -> StereotypeApplication | None:
+        """The application of a SysML stereotype to an element, the name compared as :func:`stereotype_key` does."""
+        key = stereotype_key(name)
+        return next(
+            (app for app in self.applied(el) if app.family == "sysml" and stereotype_key(app.name) == key), None
         )
+
+    def has_sysml(self, el: Element, name: str) -> bool:
+        return self.sysml_application(el, name) is not None
 
     # -- values ------------------------------------------------------------------------------
     def opaque_bodies(self, el: Element) -> list[tuple[str, str]]:
@@ -354,6 +395,11 @@ def _document(root: Element, file: str, table: DialectTable) -> _Document:
         if normalise_uri(top_uri) in table.xmi_uris:
             continue  # xmi:Documentation, and every root-level xmi:Extension (tool data, repeated ids)
         (model_roots if top_uri == uml_ns else applications).append(top)
+    for model in model_roots:  # Enterprise Architect "XMI 2.1" writes them inside the uml:Model
+        for child in model:
+            uri = _namespace_of(child)
+            if uri and uri != uml_ns and normalise_uri(uri) not in table.xmi_uris:
+                applications.append(child)
     return _Document(root, file, xmi_ns, uml_ns, model_roots, applications)
 
 
@@ -436,10 +482,14 @@ def earl_profile_uris(raw: RawModel, profile_applications: list[Element]) -> fro
 
 def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -> StereotypeApplication | None:
     base_id = ""
+    name = etree.QName(el).localname
     tags: dict[str, str] = {}
+    name_attributes = raw.table.stereotype_name_attributes
     for key, value in el.attrib.items():
         if key.startswith("base_"):
             base_id = value
+        elif key in name_attributes:
+            name = value.strip() or name
         elif not key.startswith("{"):
             tags[key] = value
     if not base_id:
@@ -461,7 +511,7 @@ def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -
         if value:
             previous = tags.get(tag)
             tags[tag] = f"{previous} {value}" if previous else value
-    return StereotypeApplication(uri, family, etree.QName(el).localname, base_id, tags, el.sourceline or 0)
+    return StereotypeApplication(uri, family, name, base_id, tags, el.sourceline or 0)
 
 
 def _namespace_of(el: Element) -> str:

@@ -313,13 +313,11 @@ def test_a_magicdraw_file_without_documentation_is_known_by_its_extension_extend
     assert load_raw_model(write(tmp_path, text)).dialect == "cameo"
 
 
-def test_enterprise_architect_xmi_is_not_supported_yet(tmp_path: Path) -> None:
+def test_an_exporter_named_enterprise_architect_is_not_taken_for_magicdraw(tmp_path: Path) -> None:
     text = CLEAN.replace("""<xmi:documentation xmi:type="xmi:Documentation">
     <xmi:exporter>MagicDraw Clean XMI Exporter</xmi:exporter><xmi:exporterVersion>19.0 v9</xmi:exporterVersion>
   </xmi:documentation>""", '<xmi:Documentation exporter="Enterprise Architect" exporterVersion="6.5"/>')
-    with pytest.raises(ModelReadError) as info:
-        load_raw_model(write(tmp_path, text))
-    assert "Enterprise Architect XMI is not supported yet" in info.value.one_line()
+    assert load_raw_model(write(tmp_path, text)).dialect == "enterprise-architect"
 
 
 # -- .mdzip ---------------------------------------------------------------------------------------------

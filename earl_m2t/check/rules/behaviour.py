@@ -19,7 +19,8 @@ def fsm_initial_state_count(model: EarlModel) -> Iterator[Finding]:
         fsm = sub.fsm
         if sub.fsm_count > 1:
             yield Finding(f"subsystem {sub.path} owns {sub.fsm_count} state machines; its FSM is the "
-                          "classifier behaviour, the others are ignored", fsm.location, fsm.path)
+                          "classifier behaviour (else the first one), the others are ignored", fsm.location,
+                          fsm.path)
         initials = fsm.initial_states
         if not initials:
             yield Finding(f"{fsm.path} has no initial state (no transition from an initial pseudostate)",
