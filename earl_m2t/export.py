@@ -5,6 +5,7 @@ The keys are documented in README.md ("show --format json") and kept stable.
 
 from __future__ import annotations
 
+from contextvars import ContextVar
 from typing import Any
 
 from earl_m2t.model.elements import (
@@ -23,10 +24,15 @@ from earl_m2t.model.elements import (
 from earl_m2t.model.location import Location
 
 FORMAT_VERSION = 1
+_DOCUMENT_FILE: ContextVar[str] = ContextVar("document_file", default="")
 
 
 def _where(location: Location) -> dict[str, Any]:
-    return {"line": location.line, "xmi_id": location.xmi_id}
+    """Line and id; and the file, for an element read from another file than the model's."""
+    where: dict[str, Any] = {"line": location.line, "xmi_id": location.xmi_id}
+    if location.line and location.file != _DOCUMENT_FILE.get():
+        where["file"] = location.file
+    return where
 
 
 def _condition(condition: Condition | None) -> str | None:
@@ -39,15 +45,19 @@ def _multiplicity(lower: int, upper: int | None) -> str:
 
 
 def model_to_dict(model: EarlModel) -> dict[str, Any]:
-    return {
-        "format": FORMAT_VERSION,
-        "file": model.file,
-        "dialect": model.dialect,
-        "model": model.name,
-        "earl": model.has_earl_content,
-        "systems": [_system(s) for s in model.systems],
-        "datatypes": [_datatype(d) for d in model.datatypes.values()],
-    }
+    token = _DOCUMENT_FILE.set(model.file)
+    try:
+        return {
+            "format": FORMAT_VERSION,
+            "file": model.file,
+            "dialect": model.dialect,
+            "model": model.name,
+            "earl": model.has_earl_content,
+            "systems": [_system(s) for s in model.systems],
+            "datatypes": [_datatype(d) for d in model.datatypes.values()],
+        }
+    finally:
+        _DOCUMENT_FILE.reset(token)
 
 
 def _system(system: System) -> dict[str, Any]:

@@ -2,7 +2,9 @@
 ``stats``: no traceback, the expected dialect, the documented exit codes, in reasonable time.
 
 The corpus (``../shared/corpus`` beside the checkout, see its README) holds no EARL model, so
-``check`` reports R003 on every file it can read. The tests are skipped without the corpus.
+``check`` reports R003 on every file it can read, and R004 once for each resource a file
+references that is not at hand (the rest of those projects, Eclipse workspace paths, pathmaps of
+other plug-ins). The tests are skipped without the corpus.
 """
 
 from __future__ import annotations
@@ -26,6 +28,31 @@ READ = {
     "cameo/cameo-to-capella-md-emf-uml2-export.uml": "cameo-eclipse-uml2",
     "cameo/": "cameo",  # the .mdzip projects and their model members
     "ea/": "enterprise-architect",
+}
+# relative path -> the resources (href before '#') that R004 reports, once each; none for the others
+UNRESOLVED = {
+    "cameo/arrowhead-tank-control-md19-model.xmi": {
+        "Arrowhead_core_JD15d_experimental.mdzip", "Arrowhead Profile-JD-84b_experimental.mdzip",
+    },
+    "cameo/arrowhead-tank-control-md19.mdzip": {
+        "Arrowhead_core_JD15d_experimental.mdzip", "Arrowhead Profile-JD-84b_experimental.mdzip",
+    },
+    "cameo/cameo-to-capella-md-emf-uml2-export.uml": {
+        "SysML.profile.uml", "UML_Standard_Profile.MagicDraw_Profile.DSL_Customization.profile.uml",
+        "MD_Customization_for_SysML.additional_stereotypes.profile.uml",
+    },
+    "other/papyrus-uml-marte-no-sysml-producer-consumer.uml": {
+        "pathmap://QML_CORE/core.uml", "pathmap://QML_CORE/corba.uml", "pathmap://QML_CORE/fifo.uml",
+        "pathmap://QML_CORE/sysinterfaces.uml",
+    },
+    "papyrus/arrowhead-5.0-dsl-sysml16.uml": {
+        "../EclipseArrowhead/EclipseArrowhead_v5.0.uml", "../JD3.ArrowheadMetamodel/ArrowheadMetamodel_JD-v6.uml",
+    },
+    "papyrus/arrowhead-principles-sysml16.uml": {"platform:/resource/EclipseArrowhead/EclipseArrowhead_v6.uml"},
+    "papyrus/robotml-robocab-sysml-papyrus07.uml": {
+        "pathmap://Robotml_LIBRARIES/RobotMLPlatformLibraries.uml",
+        "pathmap://Robotml_LIBRARIES/RobotmlPlatformLibraries.uml", "pathmap://Papyrus_Alf_LIBRARIES/alflibrary.uml",
+    },
 }
 REFUSED = {
     "other/sysmlv2-xmi-ports-library.sysmlx": "SysML v2 XMI (.sysmlx) is not supported",
@@ -97,8 +124,13 @@ def test_a_corpus_file_is_shown_checked_and_counted_without_a_traceback(relative
     assert document["earl"] is False and document["systems"] == []
     assert checked.returncode == 1, checked.stdout + checked.stderr
     findings = [line for line in checked.stdout.splitlines()[:-1]]
-    assert len(findings) == 1 and " R003 error: " in findings[0], checked.stdout
-    assert checked.stdout.splitlines()[-1] == "1 file checked: 1 error(s), 0 warning(s), 0 info"
+    assert len([f for f in findings if " R003 error: " in f]) == 1, checked.stdout
+    unresolved = [f.partition(" R004 warning: unresolved reference ")[2] for f in findings if " R004 " in f]
+    resources = [f.partition("#")[0] for f in unresolved]
+    assert len(findings) == 1 + len(resources), checked.stdout
+    assert sorted(resources) == sorted(UNRESOLVED.get(relative, ())), checked.stdout
+    warnings = len(resources)
+    assert checked.stdout.splitlines()[-1] == f"1 file checked: 1 error(s), {warnings} warning(s), 0 info"
 
 
 @needs_corpus

@@ -572,16 +572,123 @@ def test_the_reader_recognises_a_cameo_model_applying_the_profile(
 # ---------------------------------------------------------------- Enterprise Architect
 
 
-def test_ea_profile_namespace_is_an_earl_namespace(generated: dict[str, tuple[str, bytes]]) -> None:
-    """(c) Applications of the EA profile use its URI, which the reader takes for EARL."""
+def _ea_application(uml: UmlProfile, concept: str, base_id: str, **tags: str) -> str:
+    """A stereotype application as EA exports it: the element named after the stereotype (spaces
+    as ``_``, the real name in ``__EAStereoName``), no ``xmi:id``, the base and the tags as attributes."""
+    stereotype = uml.stereotypes[concept]
+    assert not stereotype.abstract, concept
+    (base,) = uml.effective_bases(concept)
+    name = stereotype.name
+    attributes = [(base, base_id), ("__EAStereoName", name if " " in name else ""), *tags.items()]
+    rendered = "".join(f' {key}="{value}"' for key, value in attributes if value)
+    return f"<EARL:{name.replace(' ', '_')}{rendered}/>"
+
+
+def _ea_model(uml: UmlProfile) -> str:
+    """A small model as Enterprise Architect 16 exports it ("XMI 2.1") with the generated profile
+    applied: the exported package inside ``EA_Model``, the applications inside that uml:Model
+    after it, ports as ``ownedPort``, an opaque behaviour's language only in its extension record.
+    Nothing is named with the EARL suffixes: only the stereotypes say what the elements are."""
+    uri = uml.element.get("URI") or ""
+    apps = [
+        _ea_application(uml, "System", "EAID_CELL"),
+        _ea_application(uml, "Agent", "EAID_ARM", declaredType="C"),
+        _ea_application(uml, "ControlSubsystem", "EAID_CTRL"),
+        _ea_application(uml, "InputBuffer", "EAID_CMD"),
+        _ea_application(uml, "OutputBuffer", "EAID_STATE"),
+        _ea_application(uml, "PartialTransitionFunction", "EAID_MOVE"),
+    ]
+    applications = "\n".join(f"\t\t{app}" for app in apps)
+    return f"""<?xml version="1.0" encoding="windows-1252"?>
+<xmi:XMI xmi:version="2.1" xmlns:uml="http://schema.omg.org/spec/UML/2.1" xmlns:xmi="http://schema.omg.org/spec/XMI/2.1" \
+xmlns:thecustomprofile="http://www.sparxsystems.com/profiles/thecustomprofile/1.0" xmlns:EARL="{uri}" \
+xmlns:SysML1.4="http://www.sparxsystems.com/profiles/SysML1.4/1.4">
+\t<xmi:Documentation exporter="Enterprise Architect" exporterVersion="6.5"/>
+\t<uml:Model xmi:type="uml:Model" name="EA_Model" visibility="public">
+\t\t<packagedElement xmi:type="uml:Package" xmi:id="EAPK_CELL" name="Cell" visibility="public">
+\t\t\t<packagedElement xmi:type="uml:DataType" xmi:id="EAID_POSE" name="Pose" visibility="public"/>
+\t\t\t<packagedElement xmi:type="uml:Class" xmi:id="EAID_CELL" name="Cell" visibility="public">
+\t\t\t\t<ownedAttribute xmi:type="uml:Property" xmi:id="EAID_CELL_ARM" name="arm" visibility="public" aggregation="composite">
+\t\t\t\t\t<type xmi:idref="EAID_ARM"/>
+\t\t\t\t</ownedAttribute>
+\t\t\t</packagedElement>
+\t\t\t<packagedElement xmi:type="uml:Class" xmi:id="EAID_ARM" name="Arm" visibility="public">
+\t\t\t\t<ownedAttribute xmi:type="uml:Property" xmi:id="EAID_ARM_CTRL" name="control" visibility="public" aggregation="composite">
+\t\t\t\t\t<type xmi:idref="EAID_CTRL"/>
+\t\t\t\t</ownedAttribute>
+\t\t\t</packagedElement>
+\t\t\t<packagedElement xmi:type="uml:Class" xmi:id="EAID_CTRL" name="ArmControl" visibility="public">
+\t\t\t\t<ownedPort xmi:type="uml:Port" xmi:id="EAID_CMD" name="command" visibility="public" aggregation="composite" isService="true">
+\t\t\t\t\t<type xmi:idref="EAID_POSE"/>
+\t\t\t\t</ownedPort>
+\t\t\t\t<ownedPort xmi:type="uml:Port" xmi:id="EAID_STATE" name="state" visibility="public" aggregation="composite" isService="true">
+\t\t\t\t\t<type xmi:idref="EAID_POSE"/>
+\t\t\t\t</ownedPort>
+\t\t\t\t<ownedBehavior xmi:type="uml:OpaqueBehavior" xmi:id="EAID_MOVE" name="move" visibility="public" body="// follow the command">
+\t\t\t\t\t<ownedParameter xmi:type="uml:Parameter" xmi:id="EAID_MOVE_IN" name="command" visibility="public" direction="in"/>
+\t\t\t\t\t<ownedParameter xmi:type="uml:Parameter" xmi:id="EAID_MOVE_OUT" name="state" visibility="public" direction="out"/>
+\t\t\t\t</ownedBehavior>
+\t\t\t</packagedElement>
+\t\t</packagedElement>
+\t\t<SysML1.4:block base_Class="EAID_CELL"/>
+\t\t<SysML1.4:block base_Class="EAID_ARM"/>
+\t\t<SysML1.4:block base_Class="EAID_CTRL"/>
+{applications}
+\t</uml:Model>
+\t<xmi:Extension extender="Enterprise Architect" extenderID="6.5">
+\t\t<elements>
+\t\t\t<element xmi:idref="EAID_MOVE" xmi:type="uml:OpaqueBehavior" name="move" scope="public">
+\t\t\t\t<model package="EAPK_CELL" owner="EAID_CTRL" tpos="0" ea_localid="7" ea_eleType="element"/>
+\t\t\t\t<properties isSpecification="false" sType="OpaqueBehavior" nType="0" scope="public" stereotype="{uml.stereotypes["PartialTransitionFunction"].name}"/>
+\t\t\t\t<code gentype="C++"/>
+\t\t\t</element>
+\t\t</elements>
+\t</xmi:Extension>
+</xmi:XMI>
+"""
+
+
+def test_the_reader_recognises_an_ea_model_applying_the_profile(
+    generated: dict[str, tuple[str, bytes]], tmp_path: Path
+) -> None:
+    """(c) Round trip through the reader: a model applying the generated EA profile, as EA exports
+    it, is read with its System, Agent, ControlSubsystem and buffers recognised by stereotype."""
+    from earl_m2t import load
+    from earl_m2t.export import model_to_dict
+
     uml = read_profile(generated["ea"][1])
     uri = uml.element.get("URI") or ""
     assert uri == "http://www.sparxsystems.com/profiles/EARL/1.0"
     assert uml.root.nsmap["EARL"] == uri and uml.element.get("nsPrefix") == "EARL"
     assert dialect_table().is_earl(uri)
-    assert any(uri.startswith(prefix) for prefix in dialect_table().earl_prefixes)
     comment = uml.element.find("ownedComment/body")
     assert comment is not None and (comment.text or "").startswith("EARL Version:1.0")
+
+    text = _ea_model(uml)
+    model = etree.fromstring(text.encode("cp1252"))
+    (ea_model,) = [el for el in model if etree.QName(el).localname == "Model"]
+    applications = [el for el in ea_model if etree.QName(el).namespace == uri]
+    assert len(applications) == 6 and not any(app.get(XMI_ID) for app in applications)
+    for application in applications:  # every application is a stereotype of the generated profile
+        name = application.get("__EAStereoName") or etree.QName(application).localname
+        assert name in uml.stereotypes and not uml.stereotypes[name].abstract
+        assert {a for a in application.attrib if a.startswith("base_")} <= set(uml.effective_bases(name))
+
+    path = tmp_path / "cell.xml"
+    path.write_bytes(text.encode("cp1252"))
+    loaded = load(path)
+    document = model_to_dict(loaded.model)
+    assert document["dialect"] == "enterprise-architect" and document["model"] == "Cell"
+    (system,) = document["systems"]
+    assert (system["name"], system["recognised_by"]) == ("Cell", "stereotype")
+    (agent,) = system["agents"]
+    assert (agent["recognised_by"], agent["declared_type"]) == ("stereotype", "C")
+    (control,) = agent["subsystems"]
+    assert (control["kind"], control["recognised_by"]) == ("cs", "stereotype")
+    assert [b["name"] for b in control["inputs"]] == ["command"]
+    assert [b["name"] for b in control["outputs"]] == ["state"]
+    (move,) = control["functions"]
+    assert (move["name"], move["language"]) == ("move", "C++")  # the element's Language in EA
 
 
 def test_profile_rejects_unknown_format_in_the_api() -> None:

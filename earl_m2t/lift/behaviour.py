@@ -201,7 +201,7 @@ class BehaviourLifter:
         transitions = []
         order = 0
         for region in regions:
-            for tr in raw.children(region, "transition"):
+            for tr in raw.in_connector_order(raw.children(region, "transition")):
                 source = raw.ref(tr, "source")
                 target = raw.ref(tr, "target")
                 if source is not None and not isinstance(source, ExternalRef) and id(source) in initial_ids:

@@ -26,7 +26,7 @@ def primitive_kind(name: str) -> str:
     names = primitive_names()
     if name in names:
         return names[name]
-    for sep in ("#", "-", ".", "_"):
+    for sep in ("#", "/", "-", ".", "_"):
         tail = name.rpartition(sep)[2]
         if tail in names:
             return names[tail]
@@ -41,6 +41,7 @@ class DataTypeLifter:
         self.raw = raw
         self.datatypes: dict[str, DataType] = {}
         self._keys: dict[int, str] = {}
+        self._taken: dict[str, Element] = {}  # qualified name -> the element that has it
 
     def type_of(self, typed: Element) -> tuple[str, str]:
         """(datatype key, unresolved reference text) for a typed element (property, port, parameter)."""
@@ -48,11 +49,14 @@ class DataTypeLifter:
         if ref is None:
             return "", ""
         if isinstance(ref, ExternalRef):
-            # by the href's fragment, else by the target's name when the file states it
-            for name in (ref.fragment, ref.name):
-                kind = primitive_kind(name) if name else ""
-                if kind:
-                    return self._builtin(name, kind), ""
+            # a type of a known library (metamodel/xmi/libraries.toml), or an id the tool leaves
+            # undefined (Enterprise Architect's EAJava_int), by the href's fragment, else by the
+            # target's name when the file states it; a type of a file not at hand stays unresolved
+            if ref.library or not ref.resource:
+                for name in (ref.fragment, ref.name):
+                    kind = primitive_kind(name) if name else ""
+                    if kind:
+                        return self._builtin(name, kind), ""
             return "", ref.href
         return self.lift(ref), ""
 
@@ -97,4 +101,9 @@ class DataTypeLifter:
         while owner is not None and self.raw.uml_type(owner) and not self.raw.is_model(owner):
             names.append(self.raw.name(owner))
             owner = self.raw.owner(owner)
-        return "::".join(reversed(names))
+        qualified = "::".join(reversed(names))
+        if self._taken.setdefault(qualified, el) is not el and owner is not None and self.raw.name(owner):
+            # another element, of another file, has that name: qualify it with its model's name
+            qualified = f"{self.raw.name(owner)}::{qualified}"
+            self._taken.setdefault(qualified, el)
+        return qualified

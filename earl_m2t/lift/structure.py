@@ -272,14 +272,14 @@ class StructureLifter:
         for inst in instances:
             parts.setdefault(id(inst.part), []).append(inst)
         links = []
-        for connector in self.raw.children(block, "ownedConnector"):
+        for connector in self.raw.in_connector_order(self.raw.children(block, "ownedConnector")):
             ends = [self._end_buffers(resolve_end(self.raw, e), parts) for e in self.raw.children(connector, "end")]
             links.extend(self._links(connector, ends, "agent", agent_path))
         return links
 
     def _system_links(self, block: Element, system: str, agents: list[_AgentInstance]) -> list[Link]:
         links = []
-        for connector in self.raw.children(block, "ownedConnector"):
+        for connector in self.raw.in_connector_order(self.raw.children(block, "ownedConnector")):
             ends = [self._nested_end_buffers(e, agents) for e in self.raw.children(connector, "end")]
             links.extend(self._links(connector, ends, "system", system))
         return links

@@ -44,7 +44,8 @@ def _property_path(raw: RawModel, end: Element) -> tuple[Element, ...]:
     app = raw.sysml_application(end, "NestedConnectorEnd")
     if app is None:
         return ()
-    return tuple(p for p in (raw.by_id.get(i) for i in app.tags.get("propertyPath", "").split()) if p is not None)
+    path = (raw.element_by_id(i, end) for i in app.tags.get("propertyPath", "").split())
+    return tuple(p for p in path if p is not None)
 
 
 def _from_copy(raw: RawModel, copy: Element) -> EndTarget:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from typing import Any, Sequence, TypeAlias
 
@@ -66,6 +66,12 @@ class DialectTable:
     stereotype_name_attributes: tuple[str, ...] = ()
     copy_features: frozenset[str] = frozenset()
     member_features: tuple[str, ...] = ()
+    extension_extenders: tuple[str, ...] = ()
+    extension_records: tuple[str, ...] = ()
+    extension_unset: frozenset[str] = frozenset()
+    extension_properties: dict[str, tuple[str, str]] = field(default_factory=dict)  # name -> (child path, attribute)
+    body_language_property: str = ""
+    connector_order_property: str = ""
 
     def __hash__(self) -> int:
         return id(self)
@@ -138,7 +144,30 @@ def dialect_table() -> DialectTable:
         stereotype_name_attributes=tuple(data.get("stereotypes", {}).get("name_attributes", ())),
         copy_features=frozenset(data.get("connector_ends", {}).get("copy_features", ())),
         member_features=tuple(data.get("connector_ends", {}).get("member_features", ())),
+        **_extension(data.get("extension", {})),
     )
+
+
+def _extension(section: dict[str, Any]) -> dict[str, Any]:
+    """The ``[extension]`` table: whose ``xmi:Extension`` records are read, and which properties."""
+    properties: dict[str, tuple[str, str]] = {}
+    for name, where in section.get("properties", {}).items():
+        path, _, attribute = str(where).partition("/@")
+        if not path or not attribute:
+            raise ValueError(f"dialects.toml [extension.properties] {name}: expected 'child/@attribute', got {where!r}")
+        properties[name] = (path, attribute)
+    uses = section.get("uses", {})
+    for use, name in uses.items():
+        if name not in properties:
+            raise ValueError(f"dialects.toml [extension.uses] {use}: no property {name!r}")
+    return {
+        "extension_extenders": tuple(section.get("extenders", ())),
+        "extension_records": tuple(section.get("records", ())),
+        "extension_unset": frozenset(section.get("unset", ())),
+        "extension_properties": properties,
+        "body_language_property": uses.get("body_language", ""),
+        "connector_order_property": uses.get("connector_order", ""),
+    }
 
 
 def exporter_of(root: Element, xmi_ns: str) -> str:

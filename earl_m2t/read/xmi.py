@@ -8,19 +8,26 @@ whichever of the four XMI encodings the tool used (IDREF attribute, IDREFS list,
 A ``.mdzip`` project (:mod:`earl_m2t.read.mdzip`) gives one or two documents (model and shared
 model), indexed as one model; every location names the member it comes from. Which tool wrote
 the file is decided by :mod:`earl_m2t.read.dialects`, from the tables of ``dialects.toml``.
+
+Other model files the model references (``href="types.uml#id"``) are read by
+:mod:`earl_m2t.read.resources`, each into a model of its own; a reference into one resolves to
+the element there, and every method below answers for an element of such a file from that
+file's own ids, stereotypes and namespaces (its location names that file).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence, TypeAlias
+from typing import Protocol, Sequence, TypeAlias
 
 from lxml import etree
 
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
 from earl_m2t.read.dialects import DialectTable, detect_dialect, dialect_table, normalise_uri
+from earl_m2t.read.extension import ExtensionIndex, in_connector_order
+from earl_m2t.read.libraries import classify
 from earl_m2t.read.mdzip import is_archive, read_model_members
 from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_file
 
@@ -38,6 +45,7 @@ __all__ = [
     "index_tree",
     "load_raw_model",
     "normalise_uri",
+    "read_raw_model",
     "stereotype_key",
 ]
 
@@ -48,11 +56,14 @@ class ExternalRef:
 
     ``path`` is the target's qualified name when the file states it (MagicDraw writes a
     ``referenceExtension referentPath='SysML::Libraries::PrimitiveValueTypes::Real'`` beside
-    every href into a used project), else "".
+    every href into a used project), else "". ``library`` is the kind of library the href
+    points into (``primitive-types``, ``value-types`` … of ``metamodel/xmi/libraries.toml``),
+    "" when it is none: its target is then known by name only.
     """
 
     href: str
     path: str = ""
+    library: str = ""
 
     @property
     def fragment(self) -> str:
@@ -91,6 +102,16 @@ class StereotypeApplication:
     line: int
 
 
+class Resolver(Protocol):
+    """The files a model references (:class:`earl_m2t.read.resources.ResourceSet`)."""
+
+    def model_of(self, el: Element) -> "RawModel | None":
+        """The model an element was read from, None when it is the only one."""
+
+    def element(self, raw: "RawModel", resource: str, fragment: str) -> Element | None:
+        """The element ``resource#fragment`` names, the resource relative to ``raw``'s file."""
+
+
 @dataclass
 class RawModel:
     """A parsed XMI file: the tree, the id index and the stereotype applications.
@@ -111,6 +132,8 @@ class RawModel:
     table: DialectTable = field(default_factory=dialect_table)
     documents: tuple[tuple[Element, str], ...] = ()
     earl_uris: frozenset[str] = frozenset()  # the file's own EARL profile URIs (normalised)
+    _extension: ExtensionIndex | None = field(default=None, init=False, repr=False, compare=False)
+    resolver: Resolver | None = None  # the other files it references, once they are read
 
     def __post_init__(self) -> None:
         self._id_attr = f"{{{self.xmi_ns}}}id"
@@ -120,16 +143,23 @@ class RawModel:
         if not self.documents:
             self.documents = ((self.root, self.file),)
 
+    def _home(self, el: Element) -> RawModel:
+        """The model an element was read from: this one, or another file it references."""
+        if self.resolver is None:
+            return self
+        return self.resolver.model_of(el) or self
+
     # -- identity and location -------------------------------------------------------------
     def xmi_id(self, el: Element) -> str:
-        return el.get(self._id_attr) or ""
+        return el.get(self._home(el)._id_attr) or ""
 
     def file_of(self, el: Element) -> str:
         """The file (or archive member) an element was read from."""
-        if len(self.documents) == 1:
-            return self.file
+        home = self._home(el)
+        if len(home.documents) == 1:
+            return home.file
         root = el.getroottree().getroot()
-        return next((file for doc, file in self.documents if doc is root), self.file)
+        return next((file for doc, file in home.documents if doc is root), home.file)
 
     def location(self, el: Element) -> Location:
         return Location(self.file_of(el), el.sourceline or 0, 0, self.xmi_id(el))
@@ -165,13 +195,14 @@ class RawModel:
 
     def uml_type(self, el: Element) -> str:
         """The UML metaclass of an element (``Class``, ``Port``…), from ``xmi:type`` or its feature."""
-        declared = el.get(self._type_attr)
+        home = self._home(el)
+        declared = el.get(home._type_attr)
         if declared:
             return declared.rpartition(":")[2]
         tag = el.tag
         if isinstance(tag, str) and tag.startswith("{"):
             uri, _, local = tag[1:].partition("}")
-            if uri == self.uml_ns:
+            if uri == home.uml_ns:
                 return local  # a root element such as <uml:Model>
             return ""
         return self.table.implicit_types.get(str(tag), "")
@@ -188,7 +219,7 @@ class RawModel:
     def owner(self, el: Element) -> Element | None:
         """The containing element; None at the top (the ``xmi:XMI`` wrapper is nobody's owner)."""
         parent = el.getparent()
-        if parent is None or (parent.getparent() is None and _namespace_of(parent) != self.uml_ns):
+        if parent is None or (parent.getparent() is None and _namespace_of(parent) != self._home(el).uml_ns):
             return None
         return parent
 
@@ -199,6 +230,9 @@ class RawModel:
     # -- references --------------------------------------------------------------------------
     def refs(self, el: Element, feature: str) -> list[Element | ExternalRef]:
         """All targets of a reference feature, in any of the four XMI encodings."""
+        home = self._home(el)
+        if home is not self:
+            return home.refs(el, feature)
         targets: list[Element | ExternalRef] = []
         value = el.get(feature)
         if value:
@@ -221,7 +255,7 @@ class RawModel:
     def ref(self, el: Element, feature: str) -> Element | ExternalRef | None:
         value = el.get(feature)
         if value and " " not in value:  # the common case: one IDREF attribute
-            target = self.by_id.get(value)
+            target = self._home(el).by_id.get(value)
             return target if target is not None else ExternalRef("#" + value)
         found = self.refs(el, feature)
         return found[0] if found else None
@@ -233,6 +267,10 @@ class RawModel:
             return fragment
         return ""
 
+    def element_by_id(self, ref_id: str, near: Element) -> Element | None:
+        """The element with an xmi:id in the file ``near`` was read from."""
+        return self._home(near).by_id.get(ref_id)
+
     def _resolve_href(self, href: str, el: Element | None = None) -> Element | ExternalRef:
         local = self.local_fragment(href)
         if local:
@@ -241,11 +279,20 @@ class RawModel:
         if el is not None and len(el):
             referent = el.find(self._referent_path)
             path = (referent.get("referentPath") or "") if referent is not None else ""
-        return ExternalRef(href, path)
+        resource, _, fragment = href.partition("#")
+        if not resource or resource.startswith(self.table.local_resource_prefixes):
+            return ExternalRef(href, path)
+        named = classify(resource)
+        if named.kind == "file" and self.resolver is not None:
+            target = self.resolver.element(self, resource, fragment)
+            if target is not None:
+                return target
+        return ExternalRef(href, path, named.library)
 
     # -- stereotypes -------------------------------------------------------------------------
     def applied(self, el: Element) -> list[StereotypeApplication]:
-        return self.stereotypes.get(self.xmi_id(el), [])
+        home = self._home(el)
+        return home.stereotypes.get(el.get(home._id_attr) or "", [])
 
     def sysml_application(self, el: Element, name: str) -> StereotypeApplication | None:
         """The application of a SysML stereotype to an element, the name compared as :func:`stereotype_key` does."""
@@ -257,12 +304,45 @@ class RawModel:
     def has_sysml(self, el: Element, name: str) -> bool:
         return self.sysml_application(el, name) is not None
 
+    # -- the tool's own records (xmi:Extension) ----------------------------------------------
+    def extension_property(self, el: Element, name: str) -> str:
+        """A property the tool keeps about ``el`` in its ``xmi:Extension`` (``[extension]`` of
+        dialects.toml: EA's ``language``, ``created``); "" when it says nothing."""
+        home = self._home(el)
+        if home is not self:
+            return home.extension_property(el, name)
+        if self._extension is None:
+            self._extension = ExtensionIndex.read((root for root, _ in self.documents), self.xmi_ns, self.table)
+        return self._extension.get(self.xmi_id(el), name)
+
+    def body_language(self, el: Element) -> str:
+        """The language the tool keeps for an opaque behaviour or expression outside it (an
+        expression's is its Constraint's); "" when none. See ``[extension.uses] body_language``."""
+        name = self.table.body_language_property
+        if not name:
+            return ""
+        language = self.extension_property(el, name)
+        if not language and self.uml_type(el) == "OpaqueExpression":
+            owner = self.owner(el)
+            if owner is not None and self.uml_type(owner) == "Constraint":
+                language = self.extension_property(owner, name)
+        return language
+
+    def in_connector_order(self, elements: list[Element]) -> list[Element]:
+        """Transitions or connectors in the order the tool created them when it keeps one
+        (``[extension.uses] connector_order``), else as given (document order)."""
+        name = self.table.connector_order_property
+        if not name or len(elements) < 2:
+            return elements
+        return in_connector_order(elements, [self.extension_property(el, name) for el in elements])
+
     # -- values ------------------------------------------------------------------------------
     def opaque_bodies(self, el: Element) -> list[tuple[str, str]]:
         """(language, body) pairs of an OpaqueExpression / OpaqueBehavior (bodies as children or attribute).
 
         ``body`` and ``language`` are parallel lists whatever their order in the file (Papyrus
-        writes the languages first, Cameo the bodies).
+        writes the languages first, Cameo the bodies). Without any language, the one the tool
+        keeps elsewhere (:meth:`body_language`: Enterprise Architect's element Language) applies.
         """
         bodies = [child.text or "" for child in el.iterchildren("body")]
         if not bodies and el.get("body") is not None:
@@ -270,6 +350,9 @@ class RawModel:
         languages = [child.text or "" for child in el.iterchildren("language")]
         if not languages and el.get("language") is not None:
             languages = [el.get("language") or ""]
+        if bodies and not languages:
+            fallback = self.body_language(el)
+            languages = [fallback] * len(bodies) if fallback else []
         return [
             (languages[i] if i < len(languages) else "", body.replace("\r\n", "\n"))
             for i, body in enumerate(bodies)
@@ -286,11 +369,21 @@ class RawModel:
 
 
 def load_raw_model(path: Path, dialect: str | None = None) -> RawModel:
-    """Read an XMI file or a ``.mdzip`` project into a :class:`RawModel`.
+    """Read an XMI file or a ``.mdzip`` project into a :class:`RawModel`, with the model files it
+    references (see :mod:`earl_m2t.read.resources`; what cannot be resolved is an R004 finding).
 
     ``dialect`` (a name of ``[dialects]`` in dialects.toml) overrides detection. Unreadable
     input raises :class:`ModelReadError`.
     """
+    from earl_m2t.read.resources import follow_references  # it builds on this module
+
+    raw = read_raw_model(path, dialect)
+    follow_references(raw, path, dialect)
+    return raw
+
+
+def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:
+    """Read one XMI file or ``.mdzip`` project, leaving its references into other files unresolved."""
     file = str(path)
     if path.is_dir():
         raise ModelReadError(file, "is a directory, not a model file")

@@ -741,10 +741,12 @@ def tf_cycle(s: Sample) -> Expect:
 
 
 def memory_of_unknown_type(s: Sample) -> Expect:
-    """D001: FingerController's memory desiredPosition/m is typed by Torque of a library
-    that is not part of the model (an href that cannot be resolved)."""
+    """D001: FingerController's memory desiredPosition/m is typed by Complex of the SysML
+    standard library: a library known by name only, and Complex is no primitive type."""
     memory = s.attribute("FingerController", "desiredPosition/m")
-    memory.find("type").set("href", "pathmap://ROBOT_LIBRARIES/Units.library.uml#Torque")
+    memory.find("type").set("href", "pathmap://SysML16_LIBRARIES/SysML-Standard-Library.uml#SysML.package_"
+                            "packagedElement_Libraries.package_packagedElement_PrimitiveValueTypes."
+                            "dataType_packagedElement_Complex")
     return Expect(s.id(memory), "desiredPosition/m")
 
 
@@ -824,6 +826,18 @@ def duplicate_xmi_id(s: Sample) -> Expect:
     return Expect(s.id(duplicate), s.id(duplicate))
 
 
+def import_from_a_missing_file(s: Sample) -> Expect:
+    """R004: the model imports the package of a units library kept in another file, which is
+    not beside the model (a relative href that cannot be resolved)."""
+    model = s._find(s.root, "uml:Model", "model")
+    package_import = s.add(model, "packageImport", "uml:PackageImport")
+    imported = etree.SubElement(package_import, "importedPackage")
+    imported.set(XMI_TYPE, "uml:Package")
+    imported.set("href", "../libraries/robot-units.uml#_unitsPackage")
+    model.insert(0, package_import)
+    return Expect(s.id(package_import), "../libraries/robot-units.uml#_unitsPackage")
+
+
 def no_earl_model(s: Sample) -> Expect:
     """R003: the SystemInstance package is deleted (with every EARL stereotype applied in it):
     the file is a library of dataTypes, no EARL model."""
@@ -885,6 +899,7 @@ VARIANTS: dict[str, Mutation] = {
     "R001-block-suffix": block_suffix_contradicts_stereotype,
     "R002": duplicate_xmi_id,
     "R003": no_earl_model,
+    "R004": import_from_a_missing_file,
 }
 
 # Rows that expose a defect of earl-m2t rather than of the variant.

@@ -22,12 +22,20 @@ as ``qualifier`` copies of the type's ports under the part property, and nested 
 an ibd as ``qualifier`` property copies, with connector ends pointing at the copies (no
 ``partWithPort``, no ``NestedConnectorEnd``) and the copies carrying the port's stereotypes;
 guards inline (no ``guard`` reference) with the expression in a ``body=`` attribute and no
-language, the same for opaque behaviours; no ``classifierBehavior``; ``incoming``/``outgoing``
-``xmi:idref`` children on vertices and activity nodes; the children of a class, region or
-activity sorted by name, each followed by the connectors, transitions or flows leaving it;
-SysML 1.4 MDG blocks as lower-case ``SysML1.4:block``; EARL stereotypes from
-``xmlns:EARL="http://www.sparxsystems.com/profiles/EARL/1.0"`` with EA's element names
-(spaces become ``_``, the real name in ``__EAStereoName``), ``base_Attribute`` for a
+language, the same for opaque behaviours, whose language is the element's Language in its
+extension record (``<code gentype="C++"/>``, ``"<none>"`` when unset, ``"Java"`` for classes);
+no ``classifierBehavior``; ``incoming``/``outgoing`` ``xmi:idref`` children on vertices and
+activity nodes; the children of a package, class, region or activity in Project Browser order,
+a package's elements before its packages, each child followed by the connectors, transitions
+or flows leaving it (so these come grouped by source, and only their ``ea_localid``, numbered
+as they were created, keeps the order they were modelled in). The browser order is the model's:
+the sample's modeller sorts the browser by hand as in the model (EA's free sort, alphabetical
+sorting off), which gives every element its tree position, ``tpos="1"``, ``"2"`` …, and EA
+exports in that order (by default EA sorts by type and name and leaves ``tpos="0"``).
+SysML 1.4 MDG blocks as lower-case ``SysML1.4:block``; EARL stereotypes of the EA profile that
+``earl-m2t profile --format ea`` writes (``xmlns:EARL="http://www.sparxsystems.com/profiles/EARL/1.0"``),
+by its stereotype names (``EARL:ControlSubsystem``; a name with spaces would be written
+``EARL:Control_Subsystem`` with the real name in ``__EAStereoName``), ``base_Attribute`` for a
 stereotype on an attribute, tag defaults written out (``priority="0"``).
 
 The model itself is the dialect-neutral one of ``cameo_builder`` (same API as
@@ -37,10 +45,8 @@ The model itself is the dialect-neutral one of ``cameo_builder`` (same API as
 from __future__ import annotations
 
 import hashlib
-import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import TypeVar
 
 from tests.support.cameo_builder import (
     BOOLEAN,
@@ -117,8 +123,9 @@ def ea_guid(key: str) -> str:
 
 
 def ea_stereotype_name(concept: str) -> str:
-    """The stereotype name of an EARL concept in the EA profile: its words, ``Input Buffer``."""
-    return re.sub(r"(?<=[a-z])(?=[A-Z])", " ", concept)
+    """The stereotype of an EARL concept in the EA profile that ``earl-m2t profile --format ea``
+    writes, as a modeller applying that profile in EA gets it: the concept's name, ``InputBuffer``."""
+    return concept
 
 
 def _tail(ea_id: str) -> str:
@@ -146,14 +153,6 @@ _FEATURE_FLAGS = (
 )  # fmt: skip
 
 
-_T = TypeVar("_T")
-
-
-def _sorted(items: Iterable[tuple[str, _T]]) -> list[_T]:
-    """Children in EA's order: by name, case-insensitive, unnamed first (stable)."""
-    return [item for _, item in sorted(items, key=lambda pair: pair[0].casefold())]
-
-
 class ModelBuilder(BaseModelBuilder):
     """Build one Enterprise Architect 16 "XMI 2.1" export file."""
 
@@ -169,6 +168,17 @@ class _Copy:
     original: Property
     id: str
     children: dict[str, _Copy] = field(default_factory=dict)
+
+
+def _in_model_order(copies: Iterable[_Copy]) -> list[_Copy]:
+    """Copies of members of a part's type, in the order the type has its members."""
+
+    def position(copy: _Copy) -> int:
+        owner = copy.original.owner
+        members: list[Property] = owner.attributes if isinstance(owner, Block) else []
+        return next((n for n, member in enumerate(members) if member is copy.original), len(members))
+
+    return sorted(copies, key=position)
 
 
 @dataclass
@@ -187,6 +197,7 @@ class _Record:
     extra: list[tuple[str, str]] = field(default_factory=list)
     links: list[tuple[str, str, str, str]] = field(default_factory=list)  # (kind, id, start, end)
     note: str | None = None
+    language: str | None = None  # the element's Language (EA's <code gentype>), when not the default
 
 
 @dataclass
@@ -219,6 +230,7 @@ class _EAWriter:
         self.tree: dict[str, _Copy] = {}  # the copies on the parts of the block being written
         self.current_package = ""
         self.local_ids: dict[str, int] = {}
+        self.tree_positions: dict[str, int] = {}
 
     # -- ids
 
@@ -333,10 +345,11 @@ class _EAWriter:
         attributes: Iterable[Property] = (),
         extra: Iterable[tuple[str, str]] = (),
         note: str | None = None,
+        language: str | None = None,
     ) -> _Record:
         rec = _Record(
             element_id, xmi_type, name, owner, self.current_package, stype,
-            list(stereotypes), list(tags), list(attributes), list(extra), note=note,
+            list(stereotypes), list(tags), list(attributes), list(extra), note=note, language=language,
         )  # fmt: skip
         self.records.append(rec)
         self.names[element_id] = (stype, name or "")
@@ -359,18 +372,14 @@ class _EAWriter:
                 notes += member.comments
         for note in notes:
             node.add(self.note(note))
-        others: list[tuple[str, Element]] = []
+        for member in pkg.members:  # the elements, then the packages
+            if isinstance(member, DataType):
+                node.add(self.data_type(member))
+            elif isinstance(member, Block):
+                node.add(self.block(member))
         for member in pkg.members:
             if isinstance(member, Package):
                 node.add(self.package(member, pkg_id))
-            else:
-                others.append((member.name or "", member))
-        for member in _sorted(others):
-            if isinstance(member, DataType):
-                node.add(self.data_type(member))
-            else:
-                assert isinstance(member, Block)
-                node.add(self.block(member))
         self.current_package = outer
         return node
 
@@ -414,11 +423,10 @@ class _EAWriter:
         for prop in values:
             node.add(self.attribute(prop))
         self.plan_copies(block)
-        children: list[tuple[str, object]] = [(p.name or "", p) for p in block.attributes if not p.is_value]
-        children += [(b.name or "", b) for b in block.behaviors]
-        children += [(r.name or "", r) for r in block.rules]
+        children: list[object] = [p for p in block.attributes if not p.is_value]
+        children += [*block.behaviors, *block.rules]
         placed: set[int] = set()
-        for child in _sorted(children):
+        for child in children:
             if isinstance(child, Property):
                 node.add(self.port(child, block_id) if child.is_port else self.part(child, block))
                 for conn in block.connectors:
@@ -496,8 +504,7 @@ class _EAWriter:
         self.bounds(node, prop_id, prop.multiplicity, always=False)
         copy = self.tree.get(prop.name or "")
         if copy is not None:
-            for child in _sorted((c.original.name or "", c) for c in copy.children.values()):
-                assert isinstance(child, _Copy)
+            for child in _in_model_order(copy.children.values()):
                 node.add(self.qualifier(child, prop_id))
         return node
 
@@ -517,8 +524,7 @@ class _EAWriter:
         )  # fmt: skip
         self.type_ref(node, orig.type)
         self.bounds(node, copy.id, orig.multiplicity, always=False)
-        for child in _sorted((c.original.name or "", c) for c in copy.children.values()):
-            assert isinstance(child, _Copy)
+        for child in _in_model_order(copy.children.values()):
             node.add(self.qualifier(child, copy.id))
         return node
 
@@ -546,7 +552,10 @@ class _EAWriter:
             ("body", behavior.body),
         )  # fmt: skip
         earl = self.stereotypes_of(behavior)
-        self.record(b_id, "uml:OpaqueBehavior", behavior.name, owner_id, "OpaqueBehavior", stereotypes=earl)
+        self.record(
+            b_id, "uml:OpaqueBehavior", behavior.name, owner_id, "OpaqueBehavior", stereotypes=earl,
+            language=behavior.language,
+        )  # fmt: skip
         for param in behavior.parameters:
             p = param.param
             p_id = self.id(param)
@@ -584,18 +593,13 @@ class _EAWriter:
             ("xmi:type", "uml:Region"), ("xmi:id", f"EAID_SR{n:06d}_{_tail(self.current_package)}"),
             ("name", f"EA_Region{n}"), ("visibility", "public"),
         ])  # fmt: skip
-        for vertex in _sorted((self.vertex_name(v), v) for v in machine.vertices()):
-            assert isinstance(vertex, Element)
+        for vertex in machine.vertices():
             incoming = [t for t in machine.transitions if t.target is vertex]
             outgoing = [t for t in machine.transitions if t.source is vertex]
             region.add(self.vertex(vertex, sm_id, incoming, outgoing))
             for tr in outgoing:
                 region.add(self.transition(tr))
         return node
-
-    @staticmethod
-    def vertex_name(vertex: Element) -> str:
-        return "Initial" if isinstance(vertex, Pseudostate) else vertex.name or ""
 
     def vertex(self, vertex: Element, sm_id: str, incoming: list[Transition], outgoing: list[Transition]) -> XmlNode:
         v_id = self.id(vertex)
@@ -645,9 +649,8 @@ class _EAWriter:
         node = _typed(tag, "uml:Activity", act_id, ("name", act.name), ("visibility", "public"))
         earl = self.stereotypes_of(act)
         self.record(act_id, "uml:Activity", act.name, owner_id, "Activity", stereotypes=earl)
-        children: list[tuple[str, object]] = [(r.name or "", r) for r in act.rules]
-        children += [(self.node_name(n) or "", n) for n in act.nodes]
-        for child in _sorted(children):
+        children: list[object] = [*act.rules, *act.nodes]
+        for child in children:
             if isinstance(child, Constraint):
                 node.add(self.constraint("ownedRule", child, act_id))
                 continue
@@ -710,6 +713,7 @@ class _EAWriter:
         ext = XmlNode("xmi:Extension", [("extender", "Enterprise Architect"), ("extenderID", "6.5")])
         elements = ext.sub("elements")
         self.local_ids = {rec.idref: n for n, rec in enumerate(self.records, start=1)}
+        self.tree_positions = self.positions()
         for link in self.links:
             for rec in self.records:
                 if rec.idref in (link.source, link.target):
@@ -731,8 +735,9 @@ class _EAWriter:
                 for kind, link_id, start, end in rec.links:
                     links.sub(kind, [("xmi:id", link_id), ("start", start), ("end", end)])
         connectors = ext.sub("connectors")
-        for n, link in enumerate(self.links, start=1):
-            connectors.add(self.connector_record(link, n))
+        created = self.connector_numbers()
+        for link in self.links:
+            connectors.add(self.connector_record(link, created[link.id]))
         prims = ext.sub("primitivetypes")
         outer = prims.sub("packagedElement", [
             ("xmi:type", "uml:Package"), ("xmi:id", "EAPrimitiveTypesPackage"),
@@ -748,6 +753,41 @@ class _EAWriter:
                 ("visibility", "public"),
             ])  # fmt: skip
         return ext
+
+    def positions(self) -> dict[str, int]:
+        """Each element's place among its siblings in the Project Browser, from 1: the tree position
+        EA stores once the modeller orders the browser by hand (free sort), and the order it exports
+        them in. Packages and elements are counted apart; notes, not in the browser, keep 0."""
+        counters: dict[tuple[bool, str], int] = {}
+        found: dict[str, int] = {}
+        for rec in self.records:
+            if rec.stype == "Note":
+                continue
+            is_package = rec.xmi_type == "uml:Package"
+            parent = dict(rec.extra).get("parent", "") if is_package else rec.owner or rec.package
+            if not parent:  # the exported package itself
+                continue
+            counters[(is_package, parent)] = found[rec.idref] = counters.get((is_package, parent), 0) + 1
+        return found
+
+    def connector_numbers(self) -> dict[str, int]:
+        """EA's number (Connector_ID, ``ea_localid``) of each transition and connector, handed out as
+        they are created: a block's connectors and a state machine's transitions in model order."""
+        numbers: dict[str, int] = {}
+
+        def visit(pkg: Package) -> None:
+            for member in pkg.members:
+                if isinstance(member, Package):
+                    visit(member)
+                elif isinstance(member, Block):
+                    for conn in member.connectors:
+                        numbers[self.id(conn)] = len(numbers) + 1
+                    for behavior in member.behaviors:
+                        for tr in behavior.transitions if isinstance(behavior, StateMachine) else ():
+                            numbers[self.id(tr)] = len(numbers) + 1
+
+        visit(self.builder.model)
+        return numbers
 
     def project(self, el: XmlNode, created: str) -> None:
         el.sub("project", [
@@ -769,7 +809,8 @@ class _EAWriter:
             "element", [("xmi:idref", rec.idref), ("xmi:type", "uml:Package"), ("name", rec.name), ("scope", "public")]
         )
         el.sub("model", [
-            ("package2", "EAID_" + rec.idref.split("_", 1)[1]), ("package", parent), ("tpos", "0"),
+            ("package2", "EAID_" + rec.idref.split("_", 1)[1]), ("package", parent),
+            ("tpos", str(self.tree_positions.get(rec.idref, 0))),
             ("ea_localid", str(self.local_ids[rec.idref])), ("ea_eleType", "package"),
         ])  # fmt: skip
         el.sub("properties", [("isSpecification", "false"), ("sType", "Package"), ("nType", "0"), ("scope", "public")])
@@ -791,7 +832,7 @@ class _EAWriter:
             "element", [("xmi:idref", rec.idref), ("xmi:type", rec.xmi_type), ("name", rec.name), ("scope", "public")]
         )
         el.sub("model", [
-            ("package", rec.package), ("owner", rec.owner), ("tpos", "0"),
+            ("package", rec.package), ("owner", rec.owner), ("tpos", str(self.tree_positions.get(rec.idref, 0))),
             ("ea_localid", str(self.local_ids[rec.idref])), ("ea_eleType", "element"),
             ("classifier", extra.get("classifier")),
         ])  # fmt: skip
@@ -801,7 +842,8 @@ class _EAWriter:
             ("stereotype", rec.stereotypes[-1] if rec.stereotypes else None),
         ])  # fmt: skip
         self.project(el, self.stamp(rec.idref))
-        el.sub("code", [("gentype", "Java" if rec.stype in ("Class", "DataType") else "<none>")])
+        default = "Java" if rec.stype in ("Class", "DataType") else "<none>"
+        el.sub("code", [("gentype", rec.language or default)])
         el.sub("style", [("appearance", _APPEARANCE)])
         tags = el.sub("tags")
         for tag, value in rec.tags:

@@ -346,3 +346,148 @@ def test_the_commands_read_an_ea_file_without_a_traceback(tmp_path: Path, comman
 def test_the_api_loads_an_ea_file_as_an_earl_model(tmp_path: Path) -> None:
     loaded = load(write(tmp_path, EA21))
     assert loaded.model.dialect == "enterprise-architect" and loaded.model.has_earl_content
+
+
+# -- what EA keeps in its xmi:Extension records -----------------------------------------------------
+
+# EA writes an opaque behaviour's text as body="…" without a language: the language is the
+# element's Language, <code gentype="…"/> in its record under xmi:Extension/elements ("<none>"
+# when unset). Transitions and connectors come after their source element; their records under
+# xmi:Extension/connectors number them as they were created (<model ea_localid>).
+EA_RECORDS = """<?xml version="1.0" encoding="windows-1252"?>
+<xmi:XMI xmi:version="2.1" xmlns:uml="http://schema.omg.org/spec/UML/2.1" xmlns:xmi="http://schema.omg.org/spec/XMI/2.1" \
+xmlns:EARL="http://www.sparxsystems.com/profiles/EARL/1.0">
+	<xmi:Documentation exporter="Enterprise Architect" exporterVersion="6.5"/>
+	<uml:Model xmi:type="uml:Model" name="EA_Model" visibility="public">
+		<packagedElement xmi:type="uml:Package" xmi:id="EAPK_P" name="P" visibility="public">
+			<packagedElement xmi:type="uml:Class" xmi:id="EAID_CS" name="Control" visibility="public">
+				<ownedBehavior xmi:type="uml:StateMachine" xmi:id="EAID_SM" name="fsm" visibility="public">
+					<region xmi:type="uml:Region" xmi:id="EAID_SR000001_P" name="EA_Region1" visibility="public">
+						<subvertex xmi:type="uml:Pseudostate" xmi:id="EAID_I" name="Initial" kind="initial"/>
+						<transition xmi:type="uml:Transition" xmi:id="EAID_T0" kind="local" source="EAID_I" target="EAID_A"/>
+						<subvertex xmi:type="uml:State" xmi:id="EAID_A" name="a"/>
+						<transition xmi:type="uml:Transition" xmi:id="EAID_T_AB" name="a,b/t" kind="local" source="EAID_A" target="EAID_B"/>
+						<transition xmi:type="uml:Transition" xmi:id="EAID_T_AA" name="a,a/t" kind="local" source="EAID_A" target="EAID_A"/>
+						<subvertex xmi:type="uml:State" xmi:id="EAID_B" name="b"/>
+						<transition xmi:type="uml:Transition" xmi:id="EAID_T_BA" name="b,a/t" kind="local" source="EAID_B" target="EAID_A">
+							<guard xmi:type="uml:Constraint" xmi:id="EAID_CO000000_T_BA">
+								<specification xmi:type="uml:OpaqueExpression" xmi:id="EAID_OE000000_T_BA" body="ready/pp"/>
+							</guard>
+						</transition>
+					</region>
+				</ownedBehavior>
+				<ownedBehavior xmi:type="uml:OpaqueBehavior" xmi:id="EAID_PP" name="ready/pp" visibility="public" body="TRUE"/>
+				<ownedBehavior xmi:type="uml:OpaqueBehavior" xmi:id="EAID_PP_CPP" name="busy/pp" visibility="public" body="return busy();"/>
+				<ownedBehavior xmi:type="uml:OpaqueBehavior" xmi:id="EAID_PF" name="step/pf" visibility="public" body="// step"/>
+				<ownedBehavior xmi:type="uml:OpaqueBehavior" xmi:id="EAID_PF_NONE" name="idle/pf" visibility="public" body="// idle"/>
+				<ownedRule xmi:type="uml:Constraint" xmi:id="EAID_RULE" name="limit" visibility="public">
+					<specification xmi:type="uml:OpaqueExpression" xmi:id="EAID_OE000000_RULE" body="speed &lt; 2"/>
+				</ownedRule>
+			</packagedElement>
+			<packagedElement xmi:type="uml:Class" xmi:id="EAID_AG" name="Unit" visibility="public">
+				<ownedAttribute xmi:type="uml:Property" xmi:id="EAID_AG_CS" name="cs" visibility="public" aggregation="composite">
+					<type xmi:idref="EAID_CS"/>
+				</ownedAttribute>
+			</packagedElement>
+			<packagedElement xmi:type="uml:Class" xmi:id="EAID_SYS" name="Cell" visibility="public">
+				<ownedAttribute xmi:type="uml:Property" xmi:id="EAID_SYS_AG" name="unit" visibility="public" aggregation="composite">
+					<type xmi:idref="EAID_AG"/>
+				</ownedAttribute>
+			</packagedElement>
+		</packagedElement>
+		<EARL:System base_Class="EAID_SYS"/>
+		<EARL:Agent base_Class="EAID_AG"/>
+		<EARL:ControlSubsystem base_Class="EAID_CS"/>
+		<EARL:PrimitivePredicate base_Behavior="EAID_PP"/>
+		<EARL:PrimitivePredicate base_Behavior="EAID_PP_CPP"/>
+		<EARL:PartialTransitionFunction base_Behavior="EAID_PF"/>
+		<EARL:PartialTransitionFunction base_Behavior="EAID_PF_NONE"/>
+	</uml:Model>
+	<xmi:Extension extender="Enterprise Architect" extenderID="6.5">
+		<elements>
+			<element xmi:idref="EAID_CS" xmi:type="uml:Class" name="Control" scope="public">
+				<model package="EAPK_P" tpos="1" ea_localid="1" ea_eleType="element"/>
+				<code gentype="Java"/>
+			</element>
+			<element xmi:idref="EAID_PP" xmi:type="uml:OpaqueBehavior" name="ready/pp" scope="public">
+				<model package="EAPK_P" owner="EAID_CS" tpos="2" ea_localid="3" ea_eleType="element"/>
+				<code gentype="EARL"/>
+			</element>
+			<element xmi:idref="EAID_PP_CPP" xmi:type="uml:OpaqueBehavior" name="busy/pp" scope="public">
+				<model package="EAPK_P" owner="EAID_CS" tpos="3" ea_localid="4" ea_eleType="element"/>
+				<code gentype="C++"/>
+			</element>
+			<element xmi:idref="EAID_PF" xmi:type="uml:OpaqueBehavior" name="step/pf" scope="public">
+				<model package="EAPK_P" owner="EAID_CS" tpos="4" ea_localid="5" ea_eleType="element"/>
+				<code product_name="C++" gentype="C++"/>
+			</element>
+			<element xmi:idref="EAID_PF_NONE" xmi:type="uml:OpaqueBehavior" name="idle/pf" scope="public">
+				<model package="EAPK_P" owner="EAID_CS" tpos="5" ea_localid="6" ea_eleType="element"/>
+				<code gentype="&lt;none&gt;"/>
+			</element>
+			<element xmi:idref="EAID_RULE" xmi:type="uml:Constraint" name="limit" scope="public">
+				<model package="EAPK_P" owner="EAID_CS" tpos="6" ea_localid="7" ea_eleType="element"/>
+				<code gentype="EARL"/>
+			</element>
+		</elements>
+		<connectors>
+			<connector xmi:idref="EAID_T0"><source xmi:idref="EAID_I"><model ea_localid="8"/></source><model ea_localid="1"/></connector>
+			<connector xmi:idref="EAID_T_AB"><source xmi:idref="EAID_A"><model ea_localid="9"/></source><model ea_localid="4"/></connector>
+			<connector xmi:idref="EAID_T_AA"><source xmi:idref="EAID_A"><model ea_localid="9"/></source><model ea_localid="3"/></connector>
+			<connector xmi:idref="EAID_T_BA"><source xmi:idref="EAID_B"><model ea_localid="10"/></source><model ea_localid="2"/></connector>
+		</connectors>
+	</xmi:Extension>
+</xmi:XMI>
+"""
+
+
+@pytest.fixture
+def records(tmp_path: Path) -> RawModel:
+    return load_raw_model(write(tmp_path, EA_RECORDS, "records.xml"))
+
+
+def test_the_extension_record_gives_an_element_s_properties_and_only_its_own(records: RawModel) -> None:
+    assert records.extension_property(by_id(records, "EAID_PF"), "language") == "C++"
+    assert records.extension_property(by_id(records, "EAID_CS"), "language") == "Java"
+    assert records.extension_property(by_id(records, "EAID_PF_NONE"), "language") == ""  # "<none>": not set
+    assert records.extension_property(by_id(records, "EAID_T_AB"), "created") == "4"  # not its source end's 9
+    assert records.extension_property(by_id(records, "EAID_SM"), "language") == ""  # no record
+    assert "EAID_PF" in records.by_id and records.diagnostics == []  # the records repeat ids: not indexed
+
+
+def test_an_opaque_body_without_language_takes_the_element_s_language(records: RawModel) -> None:
+    assert records.opaque_bodies(by_id(records, "EAID_PF")) == [("C++", "// step")]
+    assert records.opaque_bodies(by_id(records, "EAID_PF_NONE")) == [("", "// idle")]
+    # an expression has no record: it takes the Language of the Constraint it specifies
+    assert records.opaque_bodies(by_id(records, "EAID_OE000000_RULE")) == [("EARL", "speed < 2")]
+    # a guard is no element in EA, its transition a connector: no language
+    assert records.opaque_bodies(by_id(records, "EAID_OE000000_T_BA")) == [("", "ready/pp")]
+
+
+def test_pf_and_pp_languages_come_from_the_records(records: RawModel) -> None:
+    (cs,) = lift(records).model.subsystems
+    assert [(pf.name, pf.language) for pf in cs.functions] == [("step/pf", "C++"), ("idle/pf", "")]
+    predicates = {pp.name: pp for pp in cs.predicates}
+    assert predicates["ready/pp"].language == "EARL" and predicates["ready/pp"].fun is not None
+    assert predicates["busy/pp"].language == "C++" and predicates["busy/pp"].fun is None  # user code
+
+
+def test_transitions_are_lifted_in_the_order_ea_created_them(records: RawModel) -> None:
+    region = by_id(records, "EAID_SR000001_P")
+    in_file = records.children(region, "transition")
+    assert [records.xmi_id(t) for t in in_file] == ["EAID_T0", "EAID_T_AB", "EAID_T_AA", "EAID_T_BA"]
+    assert [records.xmi_id(t) for t in records.in_connector_order(in_file)] == [
+        "EAID_T0", "EAID_T_BA", "EAID_T_AA", "EAID_T_AB",
+    ]
+    (cs,) = lift(records).model.subsystems
+    assert cs.fsm is not None
+    assert [t.name for t in cs.fsm.transitions] == ["b,a/t", "a,a/t", "a,b/t"]
+    assert [t.order for t in cs.fsm.transitions] == [0, 1, 2]
+
+
+def test_without_a_number_for_each_the_file_order_stays(raw: RawModel) -> None:
+    """The EA21 file's extension has records for some elements only, none for transitions."""
+    region = by_id(raw, "EAID_SR000001_SM")
+    in_file = raw.children(region, "transition")
+    assert raw.in_connector_order(in_file) == in_file
+    assert raw.opaque_bodies(by_id(raw, "EAID_STOP")) == [("", "FALSE")]

@@ -24,6 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+from earl_m2t.profile_export.render import export_profile  # noqa: E402
 from tests.support import cameo_builder, ea_builder  # noqa: E402
 
 SAMPLES = ROOT / "samples" / "pick_and_place"
@@ -315,8 +316,10 @@ def test_the_ea_file_has_enterprise_architect_s_shape(samples: dict[str, Sample]
     apps = sample.applications()
     assert apps and not any(app.get(sample.XMI_ID) for app in apps)
     assert all(etree.QName(app).localname == "block" for app in apps if app.tag == SYSML_BLOCK["ea"])
-    spaced = {app.get("__EAStereoName") for app in apps if app.get("__EAStereoName")}
-    assert {"Input Buffer", "Internal Memory", "Partial Transition Function"} <= spaced
+    # the EARL stereotypes are those of the EA profile `earl-m2t profile --format ea` writes, by name
+    earl = [app for app in apps if etree.QName(app).namespace == ea_builder.EARL_NS]
+    assert earl and {etree.QName(app).localname for app in earl} <= ea_profile_stereotypes()
+    assert not any(app.get("__EAStereoName") for app in earl)
     ends = [el for el in sample.content if el.tag == "end"]
     assert ends and not any(el.get("partWithPort") for el in ends)
     roles = {el.get("role") for el in ends}
@@ -327,3 +330,90 @@ def test_the_ea_file_has_enterprise_architect_s_shape(samples: dict[str, Sample]
     ext = root.find(f"{{{sample.xmi}}}Extension")
     assert ext is not None and ext.get("extender") == "Enterprise Architect"
     assert [child.tag for child in ext] == ["elements", "connectors", "primitivetypes"]
+
+
+def ea_profile_stereotypes() -> set[str]:
+    """The names of the stereotypes a modeller can apply from the generated EA profile."""
+    ((_, data),) = export_profile("ea").items()
+    root = etree.fromstring(data)
+    xmi_type = "{http://www.omg.org/spec/XMI/20131001}type"
+    return {
+        el.get("name") or "" for el in root.iter("packagedElement")
+        if el.get(xmi_type) == "uml:Stereotype" and el.get("isAbstract") != "true"
+    }
+
+
+def _ea_records(sample: Sample, kind: str) -> dict[str, etree._Element]:
+    ext = sample.root.find(f"{{{sample.xmi}}}Extension")
+    assert ext is not None
+    holder = ext.find(kind)
+    assert holder is not None
+    return {rec.get(f"{{{sample.xmi}}}idref") or "": rec for rec in holder}
+
+
+def test_the_ea_file_is_in_model_order_with_the_tree_positions_of_a_free_sorted_browser(
+    samples: dict[str, Sample],
+) -> None:
+    """EA exports in Project Browser order; the elements under each owner have the tree positions
+    1, 2 … in the order of the file (packages counted apart; notes are not in the browser)."""
+    sample = samples["ea"]
+    records = _ea_records(sample, "elements")
+    checked = 0
+    for parent in sample.root.iter():
+        for packages in (True, False):
+            positions = []
+            for child in parent:
+                rec = records.get(child.get(sample.XMI_ID) or "")
+                model = rec.find("model") if rec is not None else None
+                if model is None or child.get(sample.XMI_TYPE) == "uml:Comment":
+                    continue
+                if (child.get(sample.XMI_TYPE) == "uml:Package") == packages:
+                    positions.append(int(model.get("tpos") or "0"))
+            assert positions == list(range(1, len(positions) + 1)), parent.get("name")
+            checked += len(positions)
+    positioned = [rec for rec in records.values() if rec.find("model[@tpos]") is not None]
+    assert checked == sum(1 for rec in positioned if rec.find("model[@tpos='0']") is None) > 150
+    # the model's order, not EA's default (by type, then name): a state machine's initial state first
+    region = next(el for el in sample.content if el.tag == "region")
+    assert [v.get(sample.XMI_TYPE) for v in region.iterchildren("subvertex")][0] == "uml:Pseudostate"
+
+
+def test_the_ea_file_numbers_transitions_and_connectors_as_they_were_created(samples: dict[str, Sample]) -> None:
+    """Transitions and connectors come after their source element, grouped; their ``ea_localid``
+    keeps the order they were modelled in."""
+    sample = samples["ea"]
+    connectors = _ea_records(sample, "connectors")
+
+    def numbers(elements: list[etree._Element]) -> list[int]:
+        found = []
+        for el in elements:
+            model = connectors[el.get(sample.XMI_ID) or ""].find("model")  # the record's own, not an end's
+            assert model is not None
+            found.append(int(model.get("ea_localid") or "0"))
+        return found
+
+    system = next(el for el in sample.typed("uml:Class") if el.get("name") == "PickAndPlaceSystem")
+    links = list(system.iterchildren("ownedConnector"))
+    assert [link.get("name") for link in links] == ["manip/a,task/a", "grip/a,task/a", "task/a,manip/a", "task/a,grip/a"]
+    assert sorted(numbers(links)) != numbers(links)
+    for region in (el for el in sample.content if el.tag == "region"):
+        transitions = list(region.iterchildren("transition"))
+        sources = [tr.get("source") for tr in transitions]
+        assert sources == sorted(sources, key=sources.index)  # grouped by source vertex
+    assert len(connectors) == len(sample.typed("uml:Transition")) + len(sample.typed("uml:Connector"))
+
+
+def test_the_ea_file_keeps_behaviour_languages_in_the_element_records(samples: dict[str, Sample]) -> None:
+    """EA's ``body=`` has no language: the element's Language (``<code gentype>``) carries it."""
+    sample = samples["ea"]
+    records = _ea_records(sample, "elements")
+    languages: dict[str, set[str]] = {}
+    for concept, app in sample.earl_applications():
+        if concept in ("PartialTransitionFunction", "PrimitivePredicate"):
+            behaviour = sample.by_id[sample.base(app)]
+            assert behaviour.get(sample.XMI_TYPE) == "uml:OpaqueBehavior" and behaviour.get("body") is not None
+            assert behaviour.find("language") is None and behaviour.get("language") is None
+            code = records[sample.base(app)].find("code")
+            assert code is not None
+            languages.setdefault(concept, set()).add(code.get("gentype") or "")
+    assert languages == {"PartialTransitionFunction": {"C++"}, "PrimitivePredicate": {"EARL"}}
