@@ -39,6 +39,20 @@ class Diagnostic:
         return (loc.file, loc.line, loc.column, self.code, self.element, self.message)
 
 
+class SourceTextError(Exception):
+    """Text in one of earl-m2t's languages (profile, rules) that does not parse or is inconsistent.
+
+    ``str()`` is ``file:line:col: message``; line and column are 1-based (0 when unknown).
+    """
+
+    def __init__(self, file: str, line: int, column: int, message: str) -> None:
+        self.file = file
+        self.line = line
+        self.column = column
+        self.message = message
+        super().__init__(f"{file}:{line}:{column}: {message}")
+
+
 class ModelReadError(Exception):
     """A model file that cannot be read at all: reported as one line, exit code 2."""
 

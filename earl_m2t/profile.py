@@ -25,6 +25,7 @@ from typing import Any
 
 from earl_m2t import resources
 from earl_m2t.cache import cached
+from earl_m2t.diagnostics import SourceTextError
 from earl_m2t.sysml2 import (
     Sysml2SyntaxError,
     doc_text,
@@ -67,18 +68,8 @@ _SCALAR_VALUES = frozenset(
 )
 
 
-class ProfileError(Exception):
-    """The profile file cannot be read, does not parse, or is inconsistent.
-
-    ``str()`` is ``file:line:col: message`` (line and column 0 when unknown).
-    """
-
-    def __init__(self, file: str, line: int, column: int, message: str) -> None:
-        self.file = file
-        self.line = line
-        self.column = column
-        self.message = message
-        super().__init__(f"{file}:{line}:{column}: {message}")
+class ProfileError(SourceTextError):
+    """The profile file cannot be read, does not parse, or is inconsistent."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
+from earl_m2t.diagnostics import SourceTextError
 
-class OclSyntaxError(Exception):
+
+class OclSyntaxError(SourceTextError):
     """Constraint text that does not parse, with the 1-based line and column of the problem."""
 
     def __init__(self, message: str, file: str, line: int, column: int) -> None:
-        self.message = message
-        self.file = file
-        self.line = line
-        self.column = column
-        super().__init__(f"{file}:{line}:{column}: {message}")
+        super().__init__(file, line, column, message)
 
 
 class OclEvaluationError(Exception):

@@ -18,6 +18,7 @@ from arpeggio import StrMatch
 from textx import get_location, metamodel_from_file
 from textx.exceptions import TextXError, TextXSyntaxError
 
+from earl_m2t.diagnostics import SourceTextError
 from earl_m2t.resources import metamodel_path
 
 __all__ = [
@@ -45,15 +46,8 @@ _MAX_EXPECTED = 16
 _ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "b": "\b", "f": "\f"}
 
 
-class Sysml2SyntaxError(Exception):
-    """SysML v2 text that does not parse; ``str()`` is ``file:line:col: message``."""
-
-    def __init__(self, file: str, line: int, column: int, message: str) -> None:
-        self.file = file
-        self.line = line
-        self.column = column
-        self.message = message
-        super().__init__(f"{file}:{line}:{column}: {message}")
+class Sysml2SyntaxError(SourceTextError):
+    """SysML v2 text that does not parse."""
 
 
 @cache
