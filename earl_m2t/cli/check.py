@@ -10,13 +10,13 @@ from earl_m2t.check.engine import CheckOptions
 from earl_m2t.check.registry import select_codes
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
-from earl_m2t.render.diagnostics import render_json, render_text
+from earl_m2t.render.diagnostics import FORMATS, CheckReport
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("check", help="check models against the EARL rules")
     parser.add_argument("models", nargs="+", metavar="MODEL", help="model files (XMI)")
-    parser.add_argument("--format", choices=("text", "json"), default="text")
+    parser.add_argument("--format", choices=sorted(FORMATS), default="text")
     parser.add_argument("--select", default="", metavar="CODES",
                         help="comma-separated codes, prefixes (S, B00) or rule names to run (default: all)")
     parser.add_argument("--ignore", default="", metavar="CODES", help="comma-separated codes or prefixes to skip")
@@ -46,10 +46,7 @@ def run(args: argparse.Namespace) -> int:
         except ModelReadError as exc:
             print(exc.one_line(), file=sys.stderr)
             unreadable.append({"file": exc.file, "line": exc.line, "message": exc.message})
-    if args.format == "json":
-        sys.stdout.write(render_json(diagnostics, checked, unreadable))
-    else:
-        sys.stdout.write(render_text(diagnostics, len(checked), len(unreadable)))
+    sys.stdout.write(FORMATS[args.format](CheckReport(diagnostics, checked, unreadable)))
     if unreadable:
         return 2
     return 1 if any(d.severity is Severity.ERROR for d in diagnostics) else 0

@@ -4,9 +4,19 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from typing import Iterable
+from dataclasses import dataclass, field
+from typing import Callable, Iterable
 
 from earl_m2t.diagnostics import Diagnostic, Severity
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """Everything one ``check`` run found, as every output format needs it."""
+
+    diagnostics: list[Diagnostic]
+    checked: list[str]  # files read and checked
+    unreadable: list[dict[str, object]] = field(default_factory=list)  # file, line, message
 
 
 def summary_counts(diagnostics: Iterable[Diagnostic]) -> dict[str, int]:
@@ -55,3 +65,15 @@ def render_json(diagnostics: list[Diagnostic], files: list[str], unreadable: lis
         "summary": summary_counts(diagnostics),
     }
     return json.dumps(document, indent=2, ensure_ascii=False) + "\n"
+
+
+def _text(report: CheckReport) -> str:
+    return render_text(report.diagnostics, len(report.checked), len(report.unreadable))
+
+
+def _json(report: CheckReport) -> str:
+    return render_json(report.diagnostics, report.checked, report.unreadable)
+
+
+# Output formats of ``earl-m2t check --format``: each renders a whole report to one string.
+FORMATS: dict[str, Callable[[CheckReport], str]] = {"text": _text, "json": _json}
