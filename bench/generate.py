@@ -243,7 +243,7 @@ class _Generator:
             triggers.append(cs.primitive_predicate(f"new{_cap(mode)}/pp", body))
         false_pp = cs.primitive_predicate("false/pp", "FALSE")
         overload_pp = cs.primitive_predicate("overload/pp", overload)
-        if len(triggers) >= 2 and parent is not None:
+        if len(triggers) >= 2:  # one mode at a time (B006), as the sample declares for its two moves
             names = ", ".join(t.name for t in triggers)
             cs.exclusion("modesExclusive", triggers, body=f"exclusive({names})")
 
@@ -252,11 +252,11 @@ class _Generator:
             "calculatePosition/pf", reads=joint_state, writes=[current_joint, current_oper, torque],
             body="// Joint positions from the motor positions; end-effector pose by forward kinematics.")
         passive = cs.partial_transition_function(
-            "passiveRegulation/pf", reads=[current_joint], writes=[setpoint],
+            "passiveRegulation/pf", reads=joint_state, writes=[setpoint],
             body="// Setpoints that keep the joints still.")
         mode_pfs = {
             mode: cs.partial_transition_function(
-                f"{mode}/pf", reads=[*upstream, current_joint, current_oper], writes=[motion_finished, setpoint],
+                f"{mode}/pf", reads=[*upstream, *joint_state], writes=[motion_finished, setpoint],
                 body=f"// {_cap(mode)}: next joint setpoints along the trajectory.")
             for mode in modes
         }
@@ -310,10 +310,10 @@ class _Generator:
             "estimate/pf", reads=[command, encoder], writes=[desired],
             body="// Desired position from the command; filters the encoder reading.")
         hold = ve.partial_transition_function(
-            "hold/pf", reads=[desired], writes=[integral], body="// Holds the current position.")
+            "hold/pf", reads=[encoder], writes=[integral], body="// Holds the current position.")
         mode_pfs = {
             mode: ve.partial_transition_function(
-                f"{mode}Control/pf", reads=[command, desired, integral, gains], writes=[integral],
+                f"{mode}Control/pf", reads=[command, encoder, integral, gains], writes=[integral],
                 body=f"// PI regulator in {mode} mode: i = Kp*e + Ki*integral(e).")
             for mode in modes
         }

@@ -4,12 +4,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from earl_m2t.check.engine import CheckOptions, check_model, deduplicate
 from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift import lift
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.read.xmi import load_raw_model
+
+if TYPE_CHECKING:
+    from earl_m2t.check.suppress import Suppression
 
 
 @dataclass(frozen=True)
@@ -18,6 +22,7 @@ class Loaded:
 
     model: EarlModel
     diagnostics: tuple[Diagnostic, ...]
+    suppressions: tuple[Suppression, ...] = ()  # the model's ``earl-m2t: ignore[…]`` comments
 
 
 def load(path: Path | str, dialect: str | None = None) -> Loaded:
@@ -25,9 +30,11 @@ def load(path: Path | str, dialect: str | None = None) -> Loaded:
 
     ``dialect`` (``papyrus``, ``cameo`` …, see ``metamodel/xmi/dialects.toml``) overrides detection.
     """
+    from earl_m2t.check.suppress import read_suppressions
+
     raw = load_raw_model(Path(path), dialect)
     result = lift(raw)
-    return Loaded(result.model, result.diagnostics)
+    return Loaded(result.model, result.diagnostics, read_suppressions(raw))
 
 
 def check(path: Path | str, options: CheckOptions | None = None, dialect: str | None = None) -> list[Diagnostic]:
@@ -39,6 +46,7 @@ def check(path: Path | str, options: CheckOptions | None = None, dialect: str | 
 
 def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
     from earl_m2t.check.registry import catalogue
+    from earl_m2t.check.suppress import apply_suppressions
 
     rules = catalogue()
     reader_findings = [
@@ -47,4 +55,5 @@ def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
         for d in loaded.diagnostics
         if options.enabled(d.code)
     ]
-    return deduplicate(reader_findings + check_model(loaded.model, options))
+    found = deduplicate(reader_findings + check_model(loaded.model, options))
+    return sorted(apply_suppressions(found, loaded.suppressions, loaded.model, options), key=Diagnostic.sort_key)

@@ -8,6 +8,7 @@ from typing import Iterable, Iterator
 
 from earl_m2t.cache import cached
 from earl_m2t.check.registry import Finding, RuleInfo, catalogue, python_rules
+from earl_m2t.check.tables import LinkTable, using_permitted_links
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
@@ -20,6 +21,8 @@ class CheckOptions:
     select: frozenset[str] | None = None  # None: every rule
     ignore: frozenset[str] = frozenset()
     severities: tuple[tuple[str, Severity], ...] = ()  # per-rule severity overrides
+    permitted_links: LinkTable | None = None  # C002's table; None: metamodel/tables/permitted-links.toml
+    extra_rules: tuple[tuple[RuleInfo, Invariant], ...] = ()  # a model repository's own invariants
 
     def enabled(self, code: str) -> bool:
         return (self.select is None or code in self.select) and code not in self.ignore
@@ -105,18 +108,24 @@ def check_model(model: EarlModel, options: CheckOptions | None = None) -> list[D
     invariants: dict[str, list[Invariant]] = {}
     for invariant in builtin_invariants():
         invariants.setdefault(invariant.name, []).append(invariant)
-    for code, info in rules.items():
-        if not options.enabled(code):
-            continue
-        findings: Iterable[Finding]
-        if info.engine == "ocl":
-            findings = (f for inv in invariants.get(code, []) for f in run_invariant(info, inv, model))
-        elif code in implementations:
-            findings = implementations[code](model)
-        else:
-            continue
-        severity = options.severity(info)
-        found.extend(Diagnostic(code, severity, f.message, f.location, f.element) for f in findings)
+    with using_permitted_links(options.permitted_links):
+        for code, info in rules.items():
+            if not options.enabled(code):
+                continue
+            findings: Iterable[Finding]
+            if info.engine == "ocl":
+                findings = (f for inv in invariants.get(code, []) for f in run_invariant(info, inv, model))
+            elif code in implementations:
+                findings = implementations[code](model)
+            else:
+                continue
+            severity = options.severity(info)
+            found.extend(Diagnostic(code, severity, f.message, f.location, f.element) for f in findings)
+    for info, invariant in options.extra_rules:
+        if options.enabled(info.code):
+            severity = options.severity(info)
+            found.extend(Diagnostic(info.code, severity, f.message, f.location, f.element)
+                         for f in run_invariant(info, invariant, model))
     return deduplicate(found)
 
 

@@ -142,6 +142,10 @@ class ConditionResolver:
             return f"'{_text(ref)}' names no field of its dataType"
         return ""
 
+    def field_kind(self, ref: FieldRef) -> str | None:
+        """The primitive kind of a field (``boolean``, ``integer``, ``real`` …), None if unknown."""
+        return self._field_kind(ref)
+
     def _field_kind(self, ref: FieldRef) -> str | None:
         """The primitive kind at the end of a field path ('struct' for composites), None if unknown."""
         datatype_key = self._datatype_of(ref.head)

@@ -236,7 +236,7 @@ def _parse(text: str, file: str, line_offset: int) -> Any:
 # description; keywords and punctuation are shown quoted.
 _DESCRIPTIONS = {
     r"[A-Za-z_][A-Za-z0-9_]*": "a name",
-    r"[A-Za-z0-9_]+": "an invariant name",
+    r"[A-Za-z0-9_]+([.-][A-Za-z0-9_]+)*": "an invariant name",
     r"[A-Za-z_][A-Za-z0-9_]*(::[A-Za-z_][A-Za-z0-9_]*)*": "a type name",
     r"[0-9]+(\.[0-9]+([eE][+-]?[0-9]+)?|[eE][+-]?[0-9]+)": "a number",
     r"[0-9]+": "a number",

@@ -1,13 +1,17 @@
-"""Diagnostics as text (``FILE:LINE: CODE severity: message [element]``) and as JSON."""
+"""Diagnostics as text (``FILE:LINE: CODE severity: message [element]``), JSON, and the CI
+formats of :mod:`earl_m2t.render.sarif`, :mod:`earl_m2t.render.junit` and :mod:`earl_m2t.render.github`."""
 
 from __future__ import annotations
 
 import json
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import Callable, Iterable
+from typing import Callable, Iterable, Sequence
 
 from earl_m2t.diagnostics import Diagnostic, Severity
+from earl_m2t.render.github import render_github
+from earl_m2t.render.junit import render_junit
+from earl_m2t.render.sarif import render_sarif
 
 
 @dataclass(frozen=True)
@@ -17,6 +21,7 @@ class CheckReport:
     diagnostics: list[Diagnostic]
     checked: list[str]  # files read and checked
     unreadable: list[dict[str, object]] = field(default_factory=list)  # file, line, message
+    rules: Sequence[str] | None = None  # codes of the rules that ran (None: the whole catalogue)
 
 
 def summary_counts(diagnostics: Iterable[Diagnostic]) -> dict[str, int]:
@@ -76,4 +81,10 @@ def _json(report: CheckReport) -> str:
 
 
 # Output formats of ``earl-m2t check --format``: each renders a whole report to one string.
-FORMATS: dict[str, Callable[[CheckReport], str]] = {"text": _text, "json": _json}
+FORMATS: dict[str, Callable[[CheckReport], str]] = {
+    "text": _text,
+    "json": _json,
+    "sarif": render_sarif,
+    "junit": render_junit,
+    "github": render_github,
+}

@@ -616,8 +616,11 @@ def transition_to_another_fsm(s: Sample) -> Expect:
 
 def unreachable_state(s: Sample) -> Expect:
     """B004: the transition idle,operationalMove/t of ManipulatorControl is deleted, so no
-    transition leads to the state operationalMove any more."""
+    transition leads to the state operationalMove any more. (idle/bb's terminal condition
+    drops newOperationalPos with it, else idle could end with no transition enabled: B007.)"""
     s.remove(s.transition("ManipulatorControl", "idle,operationalMove/t"))
+    tc = s._find(s.activity("ManipulatorControl", "idle"), 'ownedRule[@name="tc"]/specification/body', "tc")
+    tc.text = "newJointPos/pp.fun ∨ emergencyStop/pp.fun"
     return Expect(s.id(s.state("ManipulatorControl", "operationalMove")), "operationalMove")
 
 
@@ -635,6 +638,42 @@ def predicate_names_unknown_field(s: Sample) -> Expect:
     pp = s.behavior("ManipulatorControl", "newJointPos/pp")
     pp.find("body").text = "newData(manipulatorCommand/ib.msg.jointSetpoint)"
     return Expect(s.id(pp), "newJointPos/pp")
+
+
+def exclusion_removed(s: Sample) -> Expect:
+    """B006: ManipulatorControl's «Exclusion» jointOrOperational (newJointPos/pp and
+    newOperationalPos/pp never hold together) is deleted: idle,jointMove/t and
+    idle,operationalMove/t, both of priority 0, can then be enabled together."""
+    s.remove(s._find(s.block("ManipulatorControl"), 'ownedRule[@name="jointOrOperational"]', "exclusion"))
+    return Expect(s.id(s.transition("ManipulatorControl", "idle,jointMove/t")),
+                  "idle,jointMove/t and idle,operationalMove/t can both fire when newJointPos ∧ "
+                  "newOperationalPos ∧ ¬emergencyStop")
+
+
+def self_transition_priority_removed(s: Sample) -> Expect:
+    """B006: jointMove,jointMove/t loses its priority 1 (its «FsmTransition» keeps the default
+    0): it ties with jointMove,idle/t, and both hold when a new joint setpoint arrives as the
+    motion finishes."""
+    transition = s.transition("ManipulatorControl", "jointMove,jointMove/t")
+    del s.application("FsmTransition", transition).attrib["priority"]
+    return Expect(s.id(transition), "jointMove,jointMove/t and jointMove,idle/t can both fire when newJointPos ∧ "
+                                    "motionFinished ∧ ¬emergencyStop")
+
+
+def emergency_transition_removed(s: Sample) -> Expect:
+    """B007: idle,emergencyStop/t is deleted: idle/bb still terminates on an emergency stop,
+    but then neither idle,jointMove/t nor idle,operationalMove/t is enabled."""
+    s.remove(s.transition("ManipulatorControl", "idle,emergencyStop/t"))
+    return Expect(s.id(s.state("ManipulatorControl", "idle")), "idle/bb can terminate (tc holds, ec does not) when "
+                                                                "emergencyStop")
+
+
+def state_without_exit(s: Sample) -> Expect:
+    """B007: TaskControl's abort/bb gets the terminal condition taskAborted/pp (it was FALSE),
+    but no transition leaves abort."""
+    tc = s._find(s.activity("TaskControl", "abort"), 'ownedRule[@name="tc"]/specification/body', "tc")
+    tc.text = "taskAborted/pp"
+    return Expect(s.id(s.state("TaskControl", "abort")), "when taskAborted, and then no transition leaves it")
 
 
 def guard_syntax_error(s: Sample) -> Expect:
@@ -705,6 +744,21 @@ def pf_reads_unknown_storage(s: Sample) -> Expect:
     param = _add_parameter(s, pf, "motorPosition/ib", "in",
                            like=s.parameter("ManipulatorControl", "calculatePosition/pf", "motorControllerStateK/ib"))
     return Expect(s.id(param), "motorPosition/ib")
+
+
+def stage_read_write_race(s: Sample) -> Expect:
+    """T004: outputMotorCon/pf, in stage 2 next to outputManipState/pf, also writes the memory
+    motionFinished/m (a new out parameter), which outputManipState/pf reads."""
+    _add_parameter(s, s.behavior("ManipulatorControl", "outputMotorCon/pf"), "motionFinished/mo", "out",
+                   like=s.parameter("ManipulatorControl", "jointMove/pf", "motionFinished/mo"))
+    return Expect(s.id(s.activity("ManipulatorControl", "idle")), "outputManipState/pf reads memory motionFinished/m")
+
+
+def output_buffer_not_written(s: Sample) -> Expect:
+    """T006: holdCommands/pf, the only pf of TaskControl's abort/bb, loses its parameter
+    gripperCommand/ob: in abort nothing writes that Output Buffer, and its last value is sent."""
+    s.remove(s.parameter("TaskControl", "holdCommands/pf", "gripperCommand/ob"))
+    return Expect(s.id(s.activity("TaskControl", "abort")), "gripperCommand/ob")
 
 
 def tf_calls_unknown_pf(s: Sample) -> Expect:
@@ -846,6 +900,31 @@ def no_earl_model(s: Sample) -> Expect:
     return Expect(line=1, name="{file}")
 
 
+def _suppress(s: Sample, element: etree._Element, text: str) -> etree._Element:
+    """A Papyrus comment on ``element`` whose body is ``text``."""
+    comment = s.add(element, "ownedComment", "uml:Comment", annotatedElement=s.id(element))
+    etree.SubElement(comment, "body").text = text
+    element.insert(0, comment)
+    return comment
+
+
+def unused_suppression(s: Sample) -> Expect:
+    """R005: the link task/a,grip/a carries the comment ``earl-m2t: ignore[C008]`` with a
+    reason, but its name follows the convention: the suppression silences nothing."""
+    connector = s.connector("PickAndPlaceSystem", "task/a,grip/a")
+    comment = _suppress(s, connector, "earl-m2t: ignore[C008] the gripper team names its links")
+    return Expect(s.id(comment), "C008")
+
+
+def suppression_without_reason(s: Sample) -> Expect:
+    """R006: the link task/a,grip/a is renamed gripperCommand (C008) and carries the comment
+    ``earl-m2t: ignore[C008]`` without a reason: C008 is silenced, the missing reason reported."""
+    connector = s.connector("PickAndPlaceSystem", "task/a,grip/a")
+    connector.set("name", "gripperCommand")
+    comment = _suppress(s, connector, "earl-m2t: ignore[C008]")
+    return Expect(s.id(comment), "no reason")
+
+
 # ---- the table --------------------------------------------------------------------------
 
 Mutation = Callable[[Sample], Expect]
@@ -880,15 +959,21 @@ VARIANTS: dict[str, Mutation] = {
     "B004": unreachable_state,
     "B005": guard_names_unknown_predicate,
     "B005-unknown-field": predicate_names_unknown_field,
+    "B006": exclusion_removed,
+    "B006-priority": self_transition_priority_removed,
+    "B007": emergency_transition_removed,
+    "B007-no-exit": state_without_exit,
     "B008": guard_syntax_error,
     "B008-empty-tc": empty_terminal_condition,
     "T001": stage_memory_write_conflict,
     "T002": stage_output_write_conflict,
     "T003": pf_reads_foreign_buffer,
     "T003-unknown-storage": pf_reads_unknown_storage,
+    "T004": stage_read_write_race,
     "T005": tf_calls_unknown_pf,
     "T005-unbalanced": tf_unbalanced_fork_join,
     "T005-cycle": tf_cycle,
+    "T006": output_buffer_not_written,
     "D001": memory_of_unknown_type,
     "D001-field": field_of_unknown_type,
     "D002": recursive_datatype,
@@ -900,6 +985,8 @@ VARIANTS: dict[str, Mutation] = {
     "R002": duplicate_xmi_id,
     "R003": no_earl_model,
     "R004": import_from_a_missing_file,
+    "R005": unused_suppression,
+    "R006": suppression_without_reason,
 }
 
 # Rows that expose a defect of earl-m2t rather than of the variant.

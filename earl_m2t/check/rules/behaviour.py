@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Iterator
 
+from earl_m2t.analysis.guards import GuardAnalysis
 from earl_m2t.check.registry import Finding, rule
 from earl_m2t.model.conditions import ConditionResolver, conditions_of, parse_condition
-from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.elements import EarlModel, State
 from earl_m2t.model.graph import unreachable_states
 
 
@@ -85,3 +86,37 @@ def predicate_syntax_error(model: EarlModel) -> Iterator[Finding]:
             _, problem = parse_condition(condition)
             if problem is not None:
                 yield Finding(f"{condition.owner}: {problem.message}", problem.location, condition.owner)
+
+
+def _guard_analyses(model: EarlModel) -> Iterator[tuple[GuardAnalysis, State]]:
+    for sub in model.definitions():
+        if sub.fsm is None or not sub.fsm.states:
+            continue
+        analysis = GuardAnalysis(model, sub)
+        for state in sub.fsm.states:
+            yield analysis, state
+
+
+@rule("B006")
+def transitions_overlap(model: EarlModel) -> Iterator[Finding]:
+    for analysis, state in _guard_analyses(model):
+        for found in analysis.overlaps(state):
+            first, second = found.first, found.second
+            yield Finding(f"{first.name} and {second.name} can both fire when {found.witness} (both priority "
+                          f"{first.priority}, leaving {state.path}: model order picks {first.name})",
+                          first.location, first.path)
+
+
+@rule("B007")
+def termination_without_transition(model: EarlModel) -> Iterator[Finding]:
+    for analysis, state in _guard_analyses(model):
+        gap = analysis.gap(state)
+        if gap is None:
+            continue
+        bb = gap.behaviour.name
+        if gap.transitions:
+            what = f"none of its {len(gap.transitions)} outgoing transitions is enabled"
+        else:
+            what = "no transition leaves it"
+        yield Finding(f"{state.path}: {bb} can terminate (tc holds, ec does not) when {gap.witness}, and then "
+                      f"{what}: the subsystem stays in {state.name} and runs {bb} again", state.location, state.path)

@@ -2,21 +2,13 @@
 
 from __future__ import annotations
 
-import tomllib
-from functools import cache
 from typing import Iterator
 
 from earl_m2t.check.registry import Finding, rule
+from earl_m2t.check.tables import permitted_links
 from earl_m2t.model.elements import EarlModel, Link
 from earl_m2t.model.graph import subsystem_graph
 from earl_m2t.model.typecompare import structural_difference
-from earl_m2t.resources import metamodel_path
-
-
-@cache
-def permitted_links() -> dict[str, frozenset[tuple[str, str]]]:
-    table = tomllib.loads(metamodel_path("tables", "permitted-links.toml").read_text("utf-8"))
-    return {scope: frozenset((a, b) for a, b in table[scope]) for scope in ("inter_subsystem", "inter_agent")}
 
 
 def _kinds(model: EarlModel, link: Link) -> tuple[str, str] | None:

@@ -77,3 +77,42 @@ def tf_activity_malformed(model: EarlModel) -> Iterator[Finding]:
                 if pf_name not in known:
                     yield Finding(f"{bb.path} calls '{pf_name}', which is no partial transition function of "
                                   f"{sub.path}", bb.location, bb.path)
+
+
+@rule("T004")
+def stage_read_write_race(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        template = {m.path: m.template for m in sub.memory}
+        for bb in sub.behaviours:
+            for number, stage in enumerate(bb.stages, start=1):
+                functions = [pf for pf in (sub.function(name) for name in stage) if pf is not None]
+                races: dict[tuple[str, str], list[str]] = {}
+                for reader in functions:
+                    own = set(reader.writes)  # a pf that also writes the memory is T001's concern
+                    for read in dict.fromkeys(reader.reads):
+                        if read not in template or read in own:
+                            continue
+                        for writer in functions:
+                            if writer is not reader and read in writer.writes:
+                                shown = races.setdefault((writer.name, reader.name), [])
+                                if template[read] not in shown:
+                                    shown.append(template[read])
+                for (writer_name, reader_name), memories in races.items():
+                    yield Finding(f"{bb.path}: stage {number} runs {writer_name} and {reader_name} in parallel; "
+                                  f"{reader_name} reads memory {', '.join(memories)} that {writer_name} writes "
+                                  "(race: the value read depends on timing)", bb.location, bb.path)
+
+
+@rule("T006")
+def output_buffer_not_written(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        for bb in sub.behaviours:
+            functions = [sub.function(name) for name in bb.functions]
+            if bb.activity_problems or any(pf is None for pf in functions):
+                continue  # a malformed tf is T005's; its writes are not known
+            written = {path for pf in functions if pf is not None for path in pf.writes}
+            stale = list(dict.fromkeys(b.template for b in sub.outputs if b.path not in written))
+            if stale:
+                plural = "s" if len(stale) > 1 else ""
+                yield Finding(f"{bb.path}: no partial transition function of its tf writes output buffer{plural} "
+                              f"{', '.join(stale)}, so send() repeats stale data", bb.location, bb.path)
