@@ -69,6 +69,7 @@ class Expander:
         self.resolver = ConditionResolver(model, subsystem)
         self._predicates: dict[str, Expr | None] = {}
         self._expanding: list[str] = []
+        self._parsed: dict[int, Expr | None] = {}  # by id of the Condition
 
     def condition(self, condition: Condition | None, missing: bool) -> Formula | None:
         """The formula of a condition (``missing`` is the value of an absent one), or None
@@ -98,11 +99,20 @@ class Expander:
     # -- internals ---------------------------------------------------------------------
 
     def _parse(self, condition: Condition) -> Expr:
+        key = id(condition)
+        if key not in self._parsed:
+            self._parsed[key] = self._parse_once(condition)
+        parsed = self._parsed[key]
+        if parsed is None:
+            raise Unanalysable(condition.owner)
+        return parsed
+
+    def _parse_once(self, condition: Condition) -> Expr | None:
         expr, problem = parse_condition(condition)
         if expr is None or problem is not None:
-            raise Unanalysable(condition.owner)
+            return None
         if next(iter(self.resolver.problems(expr, condition)), None) is not None:
-            raise Unanalysable(condition.owner)
+            return None
         counts = self.resolver.replication_count
         return expand_replicated(expr, lambda node: counts(node) or None)
 

@@ -175,6 +175,8 @@ def follow_references(raw: RawModel, path: Path, dialect: str | None = None) -> 
     resources = ResourceSet(raw, dialect)
     resources.add(raw, path, str(path))
     raw.diagnostics.extend(resources.follow())
+    if resources.model_of(raw.root) is None:
+        raw.resolver = None  # nothing else was read: every element is the model's own
 
 
 def _followed_hrefs(model: RawModel) -> list[Element]:

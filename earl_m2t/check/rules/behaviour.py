@@ -92,7 +92,10 @@ def _guard_analyses(model: EarlModel) -> Iterator[tuple[GuardAnalysis, State]]:
     for sub in model.definitions():
         if sub.fsm is None or not sub.fsm.states:
             continue
-        analysis = GuardAnalysis(model, sub)
+        key = ("guard-analysis", sub.block_id)
+        analysis = model.derived.get(key)
+        if not isinstance(analysis, GuardAnalysis):
+            analysis = model.derived[key] = GuardAnalysis(model, sub)
         for state in sub.fsm.states:
             yield analysis, state
 
