@@ -13,6 +13,10 @@ Every generator (``earl-m2t profile`` today, code generators later) prepares its
   one with :func:`os.replace`, so a reader never sees half a file and an interrupted run
   leaves the previous version in place.
 
+Files given as ``create_only`` (user files of the generation gap) are written only when
+no file exists at their path: the new file is linked into place, so an existing file is
+never replaced, not even by a race.
+
 Problems raise :class:`OutputError` with a one-line message.
 """
 
@@ -42,11 +46,15 @@ class WriteReport:
     out_dir: Path
     written: tuple[str, ...]
     unchanged: tuple[str, ...]
+    created: tuple[str, ...] = ()  # create-only files that were missing
+    kept: tuple[str, ...] = ()  # create-only files that existed, left as they are
 
     def lines(self) -> list[str]:
-        """One line per file, in path order: ``wrote DIR/x`` or ``unchanged DIR/x``."""
+        """One line per file, in path order: ``wrote``, ``unchanged``, ``created`` or ``kept DIR/x``."""
         status = {path: "wrote" for path in self.written}
         status.update({path: "unchanged" for path in self.unchanged})
+        status.update({path: "created" for path in self.created})
+        status.update({path: "kept" for path in self.kept})
         return [f"{status[path]} {self.out_dir / path}" for path in sorted(status)]
 
 
@@ -65,19 +73,25 @@ def check_relative_path(name: str) -> PurePosixPath:
     return path
 
 
-def write_files(out_dir: Path | str, files: Mapping[str, bytes]) -> WriteReport:
-    """Write ``files`` (relative path → content) under ``out_dir``, creating folders as needed.
+def write_files(out_dir: Path | str, files: Mapping[str, bytes],
+                create_only: Mapping[str, bytes] | None = None) -> WriteReport:
+    """Write ``files`` (relative path → content) under ``out_dir``, creating folders as needed,
+    and each of ``create_only`` when nothing exists at its path yet.
 
-    All paths are validated before the first write. Returns which files were written and
-    which were already up to date. Raises OutputError.
+    All paths are validated before the first write. Returns which files were written, which
+    were already up to date, which were created and which kept. Raises OutputError.
     """
     root_given = Path(out_dir)
     planned: dict[PurePosixPath, bytes] = {}
-    for name, content in files.items():
-        relative = check_relative_path(name)
-        if relative in planned:
-            raise OutputError(f"output path {name!r} is given twice")
-        planned[relative] = bytes(content)
+    once: set[PurePosixPath] = set()
+    for group, mapping in ((False, files), (True, create_only or {})):
+        for name, content in mapping.items():
+            relative = check_relative_path(name)
+            if relative in planned:
+                raise OutputError(f"output path {name!r} is given twice")
+            planned[relative] = bytes(content)
+            if group:
+                once.add(relative)
 
     root = _prepare_root(root_given)
     targets: list[tuple[PurePosixPath, Path, bytes]] = []
@@ -90,13 +104,19 @@ def write_files(out_dir: Path | str, files: Mapping[str, bytes]) -> WriteReport:
 
     written: list[str] = []
     unchanged: list[str] = []
+    created: list[str] = []
+    kept: list[str] = []
     for relative, target, content in targets:
+        if relative in once:
+            made = _create_once(target, content, root_given / str(relative))
+            (created if made else kept).append(str(relative))
+            continue
         if _same_content(target, content):
             unchanged.append(str(relative))
             continue
         _write_atomically(target, content, root_given / str(relative))
         written.append(str(relative))
-    return WriteReport(root_given, tuple(written), tuple(unchanged))
+    return WriteReport(root_given, tuple(written), tuple(unchanged), tuple(created), tuple(kept))
 
 
 # ---------------------------------------------------------------- internals
@@ -156,6 +176,43 @@ def _write_atomically(target: Path, content: bytes, shown: Path) -> None:
             pass
         raise OutputError(f"cannot write {shown}: {_reason(error)}") from None
     _sync_folder(folder)
+
+
+def _create_once(target: Path, content: bytes, shown: Path) -> bool:
+    """Write ``target`` only if nothing is there (a hard link never replaces); True if created."""
+    if os.path.lexists(target):
+        return False
+    folder = target.parent
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
+    except OSError as error:
+        raise OutputError(f"cannot write {shown}: {_reason(error)}") from None
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(content)
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.chmod(temporary, _mode_for(target))
+        try:
+            os.link(temporary, target)
+        except FileExistsError:
+            return False
+        except OSError:  # no hard links here: fall back to an exclusive create
+            try:
+                with open(target, "xb") as stream:
+                    stream.write(content)
+            except FileExistsError:
+                return False
+    except OSError as error:
+        raise OutputError(f"cannot write {shown}: {_reason(error)}") from None
+    finally:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+    _sync_folder(folder)
+    return True
 
 
 def _mode_for(target: Path) -> int:

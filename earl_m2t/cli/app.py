@@ -14,6 +14,7 @@ from typing import NoReturn, Sequence
 
 from earl_m2t import __version__
 from earl_m2t.cli import check as check_command
+from earl_m2t.cli import gen as gen_command
 from earl_m2t.cli import profile as profile_command
 from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
@@ -36,6 +37,7 @@ def build_parser() -> argparse.ArgumentParser:
     rules_command.add_parser(commands)
     stats_command.add_parser(commands)
     profile_command.add_parser(commands)
+    gen_command.add_parser(commands)
     return parser
 
 

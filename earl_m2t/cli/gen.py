@@ -1,0 +1,64 @@
+"""``earl-m2t gen MODEL --target cpp -o DIR``: generate code from a model.
+
+The model is checked first: error-severity findings are printed and nothing is generated
+(exit 1) unless ``--force``. Prints one line per file: ``wrote``/``unchanged`` for generated
+files, ``created``/``kept`` for user files (never overwritten), and ``orphaned`` for user
+files the model no longer produces (kept). An unreadable model or an unwritable folder is
+one line on stderr, exit 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from earl_m2t.cli.dialect_option import add_dialect_option
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    parser = commands.add_parser("gen", help="generate code (C++) from a model",
+                                 description="Generate a target's code from an EARL model.")
+    parser.add_argument("model", metavar="MODEL", help="the model file")
+    parser.add_argument("--target", default="cpp", choices=("cpp",), help="what to generate (default: cpp)")
+    parser.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (created when missing)")
+    parser.add_argument("--templates", type=Path, default=None, metavar="DIR",
+                        help="a folder of templates searched before the built-in ones")
+    parser.add_argument("--force", action="store_true",
+                        help="generate even when the model has error findings")
+    add_dialect_option(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from earl_m2t.api import check_loaded, load
+    from earl_m2t.check.engine import CheckOptions
+    from earl_m2t.diagnostics import ModelReadError, Severity
+    from earl_m2t.gen import GenError, generate
+    from earl_m2t.output import OutputError
+    from earl_m2t.render.diagnostics import text_line
+
+    try:
+        loaded = load(args.model, getattr(args, "dialect", None))
+    except ModelReadError as error:
+        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        return 2
+    errors = [d for d in check_loaded(loaded, CheckOptions()) if d.severity == Severity.ERROR]
+    if errors and not args.force:
+        for diagnostic in errors:
+            print(text_line(diagnostic), file=sys.stderr)
+        print(f"earl-m2t: gen: {len(errors)} error(s) in {args.model}; nothing generated (--force to generate anyway)",
+              file=sys.stderr)
+        return 1
+    try:
+        report = generate(loaded.model, args.output, args.target, args.templates)
+    except GenError as error:
+        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        return 1
+    except OutputError as error:
+        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        return 2
+    for line in report.lines():
+        print(line)
+    return 0
+

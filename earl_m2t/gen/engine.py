@@ -1,0 +1,61 @@
+"""The Jinja2 environment of a target and its ``target.toml``.
+
+Templates get plain data from the target's view and only format it: ``StrictUndefined``
+(a missing value is a bug, never an empty string), ``keep_trailing_newline``, and a user
+template folder searched before the built-in one, so any template can be overridden.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import jinja2
+
+from earl_m2t import resources
+from earl_m2t.gen.errors import GenError
+
+
+def target_dir(target: str) -> Path:
+    """``transforms/<target>``."""
+    folder = resources.data_dir("transforms") / target
+    if not (folder / "target.toml").is_file():
+        raise GenError(f"unknown target {target!r}")
+    return folder
+
+
+def load_target(target: str) -> dict[str, Any]:
+    """The parsed ``target.toml`` of a target. Raises GenError."""
+    path = target_dir(target) / "target.toml"
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError) as error:
+        raise GenError(f"{path}: {error}") from None
+
+
+def environment(target: str, user_templates: Path | None = None) -> jinja2.Environment:
+    """A fresh environment (no global state) for a target's templates."""
+    loaders: list[jinja2.BaseLoader] = []
+    if user_templates is not None:
+        if not user_templates.is_dir():
+            raise GenError(f"template folder {user_templates} does not exist")
+        loaders.append(jinja2.FileSystemLoader(str(user_templates)))
+    loaders.append(jinja2.FileSystemLoader(str(target_dir(target) / "templates")))
+    return jinja2.Environment(
+        loader=jinja2.ChoiceLoader(loaders),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        autoescape=False,
+    )
+
+
+def render(env: jinja2.Environment, template: str, **context: Any) -> bytes:
+    try:
+        return env.get_template(template).render(**context).encode("utf-8")
+    except jinja2.TemplateNotFound:
+        raise GenError(f"template {template} is missing") from None
+    except jinja2.UndefinedError as error:
+        raise GenError(f"template {template}: {error.message}") from None

@@ -1,0 +1,1 @@
+"""One module per target: builds the plain, sorted data its templates format."""

@@ -1,0 +1,155 @@
+// earl runtime: a subsystem's FSM and basic-behaviour loop (earl-metamodel.md section 2).
+// Part of earl-m2t's C++ target; header-only, C++17.
+//
+// One updateHook() is one iteration of the current basic behaviour:
+//   tf.execute()          stages in order, the pf of a stage in model order
+//   tf.pf.ob.send()       the output buffers the tf's pf write
+//   iterationNumber += 1
+//   tf.pf.ib.receive()    the input buffers the tf's pf (and the state's conditions) read
+//   if ec() || tc():      cfs := selectState()  (stays in cfs when no transition holds)
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "earl/component.hpp"
+
+namespace earl {
+
+using StateId = std::uint16_t;
+
+template <class Self>
+using Action = void (Self::*)() noexcept;
+template <class Self>
+using Guard = bool (Self::*)() const noexcept;
+
+/// pf of one stage of a transition function, in model order.
+template <class Self>
+struct StageDef {
+  const Action<Self>* functions;
+  std::size_t count;
+};
+
+template <class Self>
+struct BehaviourDef {
+  const char* name;
+  const StageDef<Self>* stages;  // stage 1 first
+  std::size_t stageCount;
+  Action<Self> send;     // tf.pf.ob.send()
+  Action<Self> receive;  // tf.pf.ib.receive()
+  Guard<Self> terminal;  // tc
+  Guard<Self> error;     // ec
+};
+
+struct StateDef {
+  const char* name;
+  std::size_t behaviour;  // index into the behaviour table
+};
+
+/// A transition; the table lists them in model order, which breaks priority ties.
+template <class Self>
+struct TransitionDef {
+  const char* name;
+  StateId source;
+  StateId target;
+  int priority;
+  Guard<Self> condition;  // ic
+};
+
+template <class Self>
+struct FsmTables {
+  const StateDef* states;
+  std::size_t stateCount;
+  const BehaviourDef<Self>* behaviours;
+  std::size_t behaviourCount;
+  const TransitionDef<Self>* transitions;
+  std::size_t transitionCount;
+  StateId initial;
+};
+
+/// selectState(): among the transitions leaving ``current`` whose condition holds, the one
+/// with the highest priority; ties go to the first in model order. nullptr when none holds.
+template <class Self>
+const TransitionDef<Self>* selectTransition(const Self& self, const TransitionDef<Self>* table,
+                                            std::size_t count, StateId current) noexcept {
+  const TransitionDef<Self>* best = nullptr;
+  for (std::size_t i = 0; i < count; ++i) {
+    const TransitionDef<Self>& t = table[i];
+    if (t.source != current) continue;
+    if (best != nullptr && t.priority <= best->priority) continue;
+    if ((self.*t.condition)()) best = &t;
+  }
+  return best;
+}
+
+/// Runs every stage of a behaviour in order.
+template <class Self>
+void runStages(Self& self, const BehaviourDef<Self>& behaviour) noexcept {
+  for (std::size_t s = 0; s < behaviour.stageCount; ++s) {
+    const StageDef<Self>& stage = behaviour.stages[s];
+    for (std::size_t f = 0; f < stage.count; ++f) (self.*stage.functions[f])();
+  }
+}
+
+/// The base of every generated subsystem (CRTP): Self supplies the tables and the
+/// member functions they point to.
+template <class Self>
+class Subsystem : public Component {
+ public:
+  Subsystem(const char* name, const FsmTables<Self>& tables) noexcept
+      : Component(name), tables_(tables), current_(tables.initial) {}
+
+  /// Enters the initial state (fsm.run(): cfs := ifs). Called by the first updateHook()
+  /// when nobody called it before.
+  void startHook() noexcept override {
+    if (started_) return;
+    started_ = true;
+    enter(tables_.initial, nullptr);
+  }
+
+  void updateHook() noexcept override {
+    if (!started_) startHook();
+    Self& self = static_cast<Self&>(*this);
+    const BehaviourDef<Self>& behaviour = tables_.behaviours[tables_.states[current_].behaviour];
+    runStages(self, behaviour);
+    (self.*behaviour.send)();
+    ++iteration_;
+    (self.*behaviour.receive)();
+    ++steps_;
+    if ((self.*behaviour.error)() || (self.*behaviour.terminal)()) {
+      const TransitionDef<Self>* next =
+          selectTransition(self, tables_.transitions, tables_.transitionCount, current_);
+      if (next != nullptr) {
+        enter(next->target, next);
+      } else {
+        iteration_ = 0;  // no transition holds: the same behaviour runs again
+      }
+    }
+  }
+
+  StateId currentState() const noexcept { return current_; }
+  const char* currentStateName() const noexcept { return tables_.states[current_].name; }
+  /// iterationNumber of the current behaviour (0 when it has just been entered).
+  std::uint64_t iteration() const noexcept { return iteration_; }
+  /// updateHook() calls so far.
+  std::uint64_t steps() const noexcept { return steps_; }
+  const FsmTables<Self>& tables() const noexcept { return tables_; }
+
+ private:
+  void enter(StateId state, const TransitionDef<Self>* via) noexcept {
+    const char* from = via != nullptr ? tables_.states[current_].name : nullptr;
+    current_ = state;
+    iteration_ = 0;
+    if (Observer* o = observer()) {
+      o->stateChanged(*this, from, tables_.states[state].name, via != nullptr ? via->name : nullptr, steps_);
+    }
+  }
+
+  const FsmTables<Self>& tables_;
+  StateId current_;
+  std::uint64_t iteration_ = 0;
+  std::uint64_t steps_ = 0;
+  bool started_ = false;
+};
+
+}  // namespace earl

@@ -1,0 +1,25 @@
+// earl runtime: an observer printing state changes, one line each, to stdout.
+// Part of earl-m2t's C++ target; header-only, C++17.
+#pragma once
+
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+
+#include "earl/component.hpp"
+
+namespace earl {
+
+class PrintObserver final : public Observer {
+ public:
+  void stateChanged(const Component& component, const char* from, const char* to, const char* via,
+                    std::uint64_t step) noexcept override {
+    if (from == nullptr) {
+      std::printf("step %" PRIu64 " %s: start in %s\n", step, component.name(), to);
+    } else {
+      std::printf("step %" PRIu64 " %s: %s -> %s (%s)\n", step, component.name(), from, to, via);
+    }
+  }
+};
+
+}  // namespace earl
