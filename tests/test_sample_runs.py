@@ -1,0 +1,127 @@
+"""The reference sample runs as a controller: generated with its shipped user code
+(``samples/pick_and_place/user/``), built with CMake (warnings are errors) and run by the
+system executor, manip/a.cs goes idle -> jointMove -> idle -> emergencyStop, the joints reach
+the task's setpoint, and after the emergency stop the winding currents are zero.
+
+The trace lines checked here are printed by the sample's user code (see the sample's README,
+*Running the sample*); the state changes by the runtime's PrintObserver."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+USER = SAMPLE.parent / "user"
+CYCLES = 1000  # the scripted task ends with the emergency stop at about cycle 850
+TOLERANCE = 1e-3  # rad: every joint within this of its setpoint once the motion is finished
+JOINTS = 6
+
+NUMBERS = r"((?: -?\d+\.\d+){6})"
+STATE = re.compile(r"^step (\d+) manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \(([^)]*)\))$")
+POSITIONS = re.compile(rf"^step (\d+) manip/a\.cs: q{NUMBERS} finished ([01]) estop ([01])$")
+CURRENTS = re.compile(rf"^step (\d+) manip/a\.cs: i{NUMBERS} estop ([01])$")
+SETPOINT = re.compile(rf"^step (\d+) task/a\.cs: jointMove setpoint{NUMBERS}$")
+TASK = re.compile(r"^step \d+ task/a\.cs: (jointMove setpoint|motion finished|emergency stop)")
+
+pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
+                                reason="g++ and cmake are needed")
+
+
+def run(*command: str | Path, env: dict[str, str] | None = None, timeout: int = 120) -> str:
+    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout, env=env)
+    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout}\n{result.stderr}"
+    return result.stdout
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """(the build folder, gen's output): the sample's user code copied into an empty folder,
+    gen run over it, the project built once."""
+    base = tmp_path_factory.mktemp("sample_runs")
+    out, build = base / "out", base / "build"
+    shutil.copytree(USER, out / "user")
+    gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
+    run("cmake", "-S", out, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
+        "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
+    run("cmake", "--build", build, "-j", str(os.cpu_count() or 2), timeout=300)
+    return build, gen
+
+
+@pytest.fixture(scope="module")
+def trace(project: tuple[Path, str]) -> list[str]:
+    build, _ = project
+    return run(build / "PickAndPlace_system", "--cycles", str(CYCLES)).splitlines()
+
+
+def numbers(text: str) -> list[float]:
+    return [float(x) for x in text.split()]
+
+
+def test_gen_keeps_every_shipped_user_file_and_creates_none(project: tuple[Path, str]) -> None:
+    _, gen = project
+    kept = [line for line in gen.splitlines() if line.startswith("kept ")]
+    assert len(kept) == len(list(USER.glob("*/*/*.hpp"))) == 14
+    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))]
+
+
+def test_manip_cs_goes_idle_joint_move_idle_emergency_stop(trace: list[str]) -> None:
+    states = []
+    for line in trace:
+        match = STATE.match(line)
+        if match:
+            states.append(match.group(2) or match.group(4))
+    assert states == ["idle", "jointMove", "idle", "emergencyStop"]
+    assert any(re.match(r"^step \d+ task/a\.cs: supervise -> abort \(supervise,abort/t\)$", line) for line in trace)
+    assert trace[-1] == f"ran PickAndPlaceSystem for {CYCLES} cycles"
+
+
+def test_the_joints_reach_the_setpoint_and_stay_there(trace: list[str]) -> None:
+    [setpoint] = [numbers(m.group(2)) for m in map(SETPOINT.match, trace) if m]
+    rows = [(int(m.group(1)), numbers(m.group(2)), m.group(3) == "1") for m in map(POSITIONS.match, trace) if m]
+    assert [step for step, _, _ in rows] == list(range(CYCLES))  # one line per cycle
+    assert all(q == [0.0] * JOINTS for _, q, _ in rows[:3])  # at rest until the move starts
+    finished_at = next(step for step, _, finished in rows if finished)
+    assert all(finished for _, _, finished in rows[finished_at:])
+    for step, q, _ in rows[finished_at:]:
+        errors = [abs(a - b) for a, b in zip(q, setpoint)]
+        assert max(errors) <= TOLERANCE, f"step {step}: {q} is not within {TOLERANCE} of {setpoint}"
+    # the move is a real one: halfway, no joint is near its setpoint yet
+    _, halfway, _ = rows[finished_at // 2]
+    assert all(abs(a - b) > 0.02 for a, b in zip(halfway, setpoint))
+    # the interpolation bounds the speed: no joint overshoots its setpoint by more than 1 %
+    for k in range(JOINTS):
+        peak = max(abs(q[k]) for _, q, _ in rows)
+        assert peak <= abs(setpoint[k]) * 1.01
+
+
+def test_after_the_emergency_stop_the_winding_currents_are_zero(trace: list[str]) -> None:
+    stop_at = next(int(m.group(1)) for m in map(STATE.match, trace) if m and m.group(4) == "emergencyStop")
+    currents = [(int(m.group(1)), numbers(m.group(2)), m.group(3) == "1") for m in map(CURRENTS.match, trace) if m]
+    assert [step for step, _, _ in currents] == list(range(CYCLES))
+    assert max(abs(i) for step, row, _ in currents if step < stop_at for i in row) > 0.5  # the motion drew current
+    assert not any(stop for step, _, stop in currents if step < stop_at)
+    after = [(row, stop) for step, row, stop in currents if step >= stop_at]
+    assert len(after) > 100
+    assert all(stop and row == [0.0] * JOINTS for row, stop in after)
+    states = [m for m in map(POSITIONS.match, trace) if m and int(m.group(1)) >= stop_at]
+    assert all(m.group(4) == "1" for m in states)  # manipulatorState reports the stop
+
+
+def test_the_run_is_deterministic_and_the_user_trace_can_be_silenced(project: tuple[Path, str],
+                                                                      trace: list[str]) -> None:
+    build, _ = project
+    assert run(build / "PickAndPlace_system", "--cycles", str(CYCLES)).splitlines() == trace
+    quiet = run(build / "PickAndPlace_system", "--cycles", str(CYCLES),
+                env={**os.environ, "PICK_AND_PLACE_QUIET": "1"}).splitlines()
+    printed_by_user_code = [line for line in trace if POSITIONS.match(line) or CURRENTS.match(line) or TASK.match(line)]
+    assert len(printed_by_user_code) == 2 * CYCLES + 3
+    user_lines = set(printed_by_user_code)
+    assert quiet == [line for line in trace if line not in user_lines]
