@@ -5,8 +5,9 @@ per primitive predicate written in user code) are created once and never touched
 A user file that the model no longer produces is reported as orphaned and kept, and so is
 a generated ROS message that the model no longer produces (a renamed dataType).
 
-The targets are registered in ``_TARGETS``: ``cpp`` (a C++17 CMake project) and ``msg``
-(ROS messages); ``earl-m2t gen --target`` offers exactly these.
+The targets are registered in ``_TARGETS``: ``cpp`` (a C++17 CMake project), ``msg``
+(ROS messages) and ``ros`` (ROS 1 catkin packages over the C++ target's code);
+``earl-m2t gen --target`` offers exactly these.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from pathlib import Path, PurePosixPath
 from earl_m2t.gen.engine import environment, load_target, render as render_template, target_dir
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.views import msg as msg_view
+from earl_m2t.gen.views import ros as ros_view
 from earl_m2t.gen.views.cpp import CppTarget, build_view
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.output import WriteReport, write_files
@@ -58,6 +60,14 @@ def render(model: EarlModel, target: str = "cpp", templates: Path | None = None,
     if target not in _TARGETS:
         raise GenError(f"unknown target {target!r} (one of {', '.join(TARGETS)})")
     return _TARGETS[target](model, templates, strict)
+
+
+def _cpp_target() -> CppTarget:
+    spec = load_target("cpp")
+    capacities, executor = spec.get("capacities", {}), spec.get("executor", {})
+    return CppTarget(types=dict(spec["types"]), string_capacity=int(capacities.get("string", 64)),
+                     unbounded_capacity=int(capacities.get("unbounded_array", 16)),
+                     cycles=int(executor.get("cycles", 10)), period_ms=int(executor.get("period_ms", 1)))
 
 
 def _render_cpp(model: EarlModel, templates: Path | None, strict: bool) -> Rendered:
@@ -113,7 +123,46 @@ def _render_msg(model: EarlModel, templates: Path | None, strict: bool) -> Rende
     return Rendered(generated, {})
 
 
-_TARGETS: dict[str, Callable[[EarlModel, Path | None, bool], Rendered]] = {"cpp": _render_cpp, "msg": _render_msg}
+def _render_ros(model: EarlModel, templates: Path | None, strict: bool) -> Rendered:
+    """Catkin packages: the messages (``--target msg``), one package per agent (a node per
+    subsystem definition, a launch file) and ``<model>_bringup`` (the system's launch file),
+    next to the C++ target's runtime and headers under ``earl/`` and its user files."""
+    cpp = _render_cpp(model, templates, strict)
+    msg = _render_msg(model, templates, strict)
+    spec = load_target("ros")
+    msg_target = msg_view.MsgTarget.from_spec(load_target("msg"))
+    view = ros_view.build_view(model, build_view(model, _cpp_target()),
+                               msg_view.build_view(model, msg_target, strict), msg_target,
+                               ros_view.RosTarget.from_spec(spec))
+    env = environment("ros", templates)
+    generated: dict[str, bytes] = {}
+    for path, content in sorted(cpp.generated.items()):
+        if path.startswith(("runtime/", "generated/include/")):
+            _put(generated, "earl/" + path, content)
+    for path, content in sorted(msg.generated.items()):
+        _put(generated, path, content)
+    system, groups = view.system, spec["templates"]
+    names = {"msgs": system["msgs"], "bringup": system["bringup"], "model": view.convert["ns"].removesuffix("_ros")}
+    for template, pattern in sorted(groups["msgs"].items()):
+        _put(generated, pattern.format(**names), render_template(env, template, system=system))
+    for template, pattern in sorted(groups["system"].items()):
+        _put(generated, pattern.format(**names), render_template(env, template, system=system, convert=view.convert))
+    for package in view.packages:
+        for template, pattern in sorted(groups["agent"].items()):
+            _put(generated, pattern.format(package=package["name"], **names),
+                 render_template(env, template, system=system, package=package))
+    for node in view.nodes:
+        for template, pattern in sorted(groups["node"].items()):
+            _put(generated, pattern.format(package=node["package"], node=node["exe"].removesuffix("_node"), **names),
+                 render_template(env, template, system=system, node=node))
+    clash = sorted(set(generated) & set(cpp.user))
+    if clash:
+        raise GenError(f"a user file and a generated file share the path {clash[0]}")
+    return Rendered(generated, cpp.user)
+
+
+_TARGETS: dict[str, Callable[[EarlModel, Path | None, bool], Rendered]] = {
+    "cpp": _render_cpp, "msg": _render_msg, "ros": _render_ros}
 TARGETS = tuple(_TARGETS)
 
 
@@ -130,7 +179,7 @@ def generate(model: EarlModel, out_dir: Path | str, target: str = "cpp",
     rendered = render(model, target, templates, strict)
     report = write_files(out_dir, rendered.generated, create_only=rendered.user)
     orphans = find_orphans(Path(out_dir), set(rendered.user))
-    if target == "msg":
+    if target in ("msg", "ros"):
         orphans = tuple(sorted(orphans + find_stale_messages(Path(out_dir), set(rendered.generated))))
     return GenReport(report, orphans)
 

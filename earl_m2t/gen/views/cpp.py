@@ -97,7 +97,7 @@ class _Builder:
             name = self.type_names[key].rpartition("::")[2]
             fields_scope = Scope((name,))
             if datatype.kind == "enumeration":
-                result.append({"kind": "enum", "name": name, "comment": cpp_comment(key),
+                result.append({"kind": "enum", "name": name, "key": key, "comment": cpp_comment(key),
                                "literals": [fields_scope.take(lit) for lit in datatype.literals]})
                 continue
             fields = []
@@ -107,7 +107,7 @@ class _Builder:
                 fields.append({"name": member, "type": self._field_type(f.type, f.lower, f.upper, key, f.name),
                                "comment": cpp_comment(f"{f.name}: {f.type or f.type_ref}"
                                                       f"{_multiplicity(f.lower, f.upper)}")})
-            result.append({"kind": "struct", "name": name, "comment": cpp_comment(key), "fields": fields})
+            result.append({"kind": "struct", "name": name, "key": key, "comment": cpp_comment(key), "fields": fields})
         return result
 
     def cpp_type(self, key: str, where: str) -> str:

@@ -1,0 +1,184 @@
+"""The ROS 1 target: the sample's catkin packages (with its shipped user code) build with
+catkin_make, the remaps of the launch files are exactly the model's links, and the launched
+system runs the model: manip/a.cs goes idle -> jointMove -> idle -> emergencyStop."""
+
+from __future__ import annotations
+
+import os
+import re
+import select
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+import pytest
+
+from earl_m2t.api import load
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+USER = SAMPLE.parent / "user"
+PYTHON = "/usr/bin/python3"  # the system python, which has catkin_pkg
+STATE = re.compile(r"^step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
+
+needs_catkin = pytest.mark.skipif(
+    shutil.which("catkin_make") is None or not Path("/usr/include/ros/ros.h").is_file()
+    or not Path("/usr/share/std_msgs").is_dir() or not Path("/usr/share/message_generation").is_dir(),
+    reason="the ROS 1 Debian packages are missing (./dev installs catkin libroscpp-dev ros-message-generation "
+           "libstd-msgs-dev ros-std-msgs)")
+needs_roslaunch = pytest.mark.skipif(
+    shutil.which("roslaunch") is None or shutil.which("roscore") is None,
+    reason="roslaunch and roscore are missing (./dev installs python3-roslaunch rosout python3-rostopic rosbash)")
+
+
+def run(*command: str | Path, cwd: Path | None = None, timeout: int = 120) -> str:
+    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout, cwd=cwd)
+    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout[-4000:]}\n{result.stderr[-4000:]}"
+    return result.stdout
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """(a catkin workspace whose src/ is gen's output, gen's output): the sample's user code
+    copied into src/user/ first."""
+    ws = tmp_path_factory.mktemp("ros_ws")
+    src = ws / "src"
+    shutil.copytree(USER, src / "user")
+    gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "ros", "-o", src)
+    return ws, gen
+
+
+@pytest.fixture(scope="module")
+def built(workspace: tuple[Path, str]) -> Path:
+    ws, _ = workspace
+    run("catkin_make", "-C", ws, f"-DPYTHON_EXECUTABLE={PYTHON}", "-j", str(os.cpu_count() or 2), timeout=600)
+    return ws
+
+
+def launch_remaps(src: Path) -> dict[str, str]:
+    """Every remap of every agent's launch file: input topic -> output topic."""
+    remaps: dict[str, str] = {}
+    for launch in sorted(src.glob("*/launch/*.launch")):
+        for node in ElementTree.parse(launch).getroot().iter("node"):
+            for remap in node.iter("remap"):
+                assert remap.get("from") not in remaps
+                remaps[remap.get("from", "")] = remap.get("to", "")
+    return remaps
+
+
+def topic(buffer_path: str) -> str:
+    """The documented topic of a buffer: /<agent>/<subsystem>/<buffer> in C++ identifiers."""
+    subsystem_path, _, buffer = buffer_path.rpartition(".")
+    agent, _, subsystem = subsystem_path.partition(".")
+    return "/" + "/".join(re.sub(r"\W", "_", part) for part in (agent, subsystem, buffer))
+
+
+def test_gen_writes_a_package_per_agent_the_messages_and_the_bringup(workspace: tuple[Path, str]) -> None:
+    ws, gen = workspace
+    packages = sorted(p.parent.name for p in (ws / "src").glob("*/package.xml"))
+    assert packages == ["pick_and_place_bringup", "pick_and_place_grip_a", "pick_and_place_manip_a",
+                        "pick_and_place_msgs", "pick_and_place_task_a"]
+    for package in packages:
+        assert ElementTree.parse(ws / "src" / package / "package.xml").getroot().get("format") == "3"
+    assert (ws / "src" / "pick_and_place_msgs" / "msg" / "ManipulatorCommand.msg").is_file()
+    assert (ws / "src" / "pick_and_place_bringup" / "launch" / "system.launch").is_file()
+    kept = [line for line in gen.splitlines() if line.startswith("kept ")]
+    assert len(kept) == 14 and not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))]
+
+
+def test_the_remaps_of_the_launch_files_are_exactly_the_links_of_the_model(workspace: tuple[Path, str]) -> None:
+    ws, _ = workspace
+    model = load(str(SAMPLE)).model
+    links = {topic(link.target): topic(link.source) for link in model.links}
+    assert len(links) == len(model.links) == 32
+    assert launch_remaps(ws / "src") == links
+
+
+def test_every_subsystem_instance_is_a_node_of_its_agents_launch_file(workspace: tuple[Path, str]) -> None:
+    ws, _ = workspace
+    model = load(str(SAMPLE)).model
+    names = set()
+    for launch in (ws / "src").glob("*/launch/*.launch"):
+        for node in ElementTree.parse(launch).getroot().iter("node"):
+            params = {p.get("name"): p.get("value") for p in node.iter("param")}
+            assert params["period"] == "$(arg period)"
+            names.add(params["path"])
+    assert names == {sub.path for sub in model.subsystems}
+
+
+@needs_catkin
+def test_catkin_make_builds_the_messages_and_one_node_per_subsystem_definition(built: Path) -> None:
+    nodes = sorted(p.relative_to(built / "devel" / "lib").as_posix()
+                   for p in (built / "devel" / "lib").glob("*/*_node"))
+    assert nodes == ["pick_and_place_grip_a/cs_node", "pick_and_place_grip_a/fingerController_ve_node",
+                     "pick_and_place_grip_a/fingerMotor_re_node", "pick_and_place_manip_a/cs_node",
+                     "pick_and_place_manip_a/motorControllerK_ve_node", "pick_and_place_manip_a/motorK_re_node",
+                     "pick_and_place_task_a/cs_node"]
+    assert (built / "devel" / "include" / "pick_and_place_msgs" / "ManipulatorCommand.h").is_file()
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def stop(process: subprocess.Popen[bytes]) -> None:
+    """SIGINT (roslaunch then stops its nodes), then SIGKILL to the process group."""
+    if process.poll() is None:
+        os.killpg(process.pid, signal.SIGINT)
+        try:
+            process.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            pass
+    try:
+        os.killpg(process.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    process.wait(timeout=10)
+
+
+@needs_catkin
+@needs_roslaunch
+def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(built: Path, tmp_path: Path) -> None:
+    env = dict(os.environ)
+    port = free_port()
+    env.update(ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1", ROS_HOME=str(tmp_path / "home"),
+               ROS_PACKAGE_PATH=f"{built / 'src'}:/usr/share", ROS_LOG_DIR=str(tmp_path / "log"))
+    env["CMAKE_PREFIX_PATH"] = f"{built / 'devel'}:/usr"
+    env["PYTHONPATH"] = str(built / "devel" / "lib" / "python3" / "dist-packages")
+    env.pop("VIRTUAL_ENV", None)
+    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep) if ".venv" not in p)
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    launch = None
+    states: list[str] = []
+    seen: list[str] = []
+    try:
+        launch = subprocess.Popen(["roslaunch", "--wait", "pick_and_place_bringup", "system.launch", "period:=0.002"],
+                                  env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+        assert launch.stdout is not None
+        fd = launch.stdout.fileno()
+        deadline = time.monotonic() + 60
+        buffered = ""
+        while time.monotonic() < deadline and "emergencyStop" not in states and launch.poll() is None:
+            ready, _, _ = select.select([fd], [], [], 0.2)
+            chunk = os.read(fd, 65536).decode(errors="replace") if ready else ""
+            buffered += chunk
+            *lines, buffered = buffered.split("\n")
+            seen.extend(lines)
+            for line in lines:
+                match = STATE.match(line.strip())
+                if match:
+                    states.append(match.group(1) or match.group(3))
+    finally:
+        if launch is not None:
+            stop(launch)
+        stop(core)
+    trace = "\n".join(line for line in seen if "manip/a.cs: q" not in line and "manip/a.cs: i" not in line)
+    assert states[:4] == ["idle", "jointMove", "idle", "emergencyStop"], trace[-3000:]
