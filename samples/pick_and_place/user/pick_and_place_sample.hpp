@@ -41,6 +41,20 @@ inline constexpr double kMaxCurrent = 5.0;  // A
 
 inline double limitCurrent(double current) noexcept { return std::clamp(current, -kMaxCurrent, kMaxCurrent); }
 
+/// The current stage both motor controllers run: it passes the commanded winding current on,
+/// limited to ±kMaxCurrent, and latches an emergency stop (zero current from then on).
+class CurrentStage {
+ public:
+  double current(double desired, bool emergencyStop) noexcept {
+    stopped_ = stopped_ || emergencyStop;
+    return stopped_ ? 0.0 : limitCurrent(desired);
+  }
+  bool stopped() const noexcept { return stopped_; }
+
+ private:
+  bool stopped_ = false;
+};
+
 // ---------------------------------------------------------------- the position regulators
 
 /// Gains of the PI motor position regulator, paper eqs. 2–3. With the motor above, the loop

@@ -17,15 +17,14 @@ class regulateFinger_pf final : public regulateFinger_pf_base {
 
   void execute() noexcept override {
     const auto& command = motorControllerCommand_ib();
-    stopped_ = stopped_ || command.emergencyStopCommand;
-    desiredCurrent_ob().current = stopped_ ? 0.0 : ::pick_and_place::limitCurrent(command.desiredWindingCurrent);
+    desiredCurrent_ob().current = stage_.current(command.desiredWindingCurrent, command.emergencyStopCommand);
     motorControllerState_ob().motorPos = encoder_ib().position;
-    motorControllerState_ob().emergencyStopCommand = stopped_;
+    motorControllerState_ob().emergencyStopCommand = stage_.stopped();
     integralError_mo() = 0.0;
   }
 
  private:
-  bool stopped_ = false;
+  ::pick_and_place::CurrentStage stage_;
 };
 
 }  // namespace PickAndPlace::grip_a::fingerController_ve
