@@ -1,4 +1,4 @@
-"""``earl-m2t gen MODEL --target cpp|msg|ros -o DIR``: generate code (C++, ROS) from a model.
+"""``earl-m2t gen MODEL --target NAME -o DIR``: generate a target's files from a model.
 
 The model is checked first: error-severity findings are printed and nothing is generated
 (exit 1) unless ``--force``. Prints one line per file: ``wrote``/``unchanged`` for generated
@@ -14,15 +14,17 @@ import sys
 from pathlib import Path
 
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.gen.target_names import gen_targets
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
-    parser = commands.add_parser("gen", help="generate code (C++, ROS messages, ROS packages) from a model",
-                                 description="Generate a target's code from an EARL model.")
+    targets = gen_targets()
+    parser = commands.add_parser("gen", help="generate code, messages, packages or documents from a model",
+                                 description="Generate a target's files from an EARL model.")
     parser.add_argument("model", metavar="MODEL", help="the model file")
-    parser.add_argument("--target", default="cpp", choices=("cpp", "msg", "ros"),
-                        help="what to generate: cpp (docs/cpp-target.md), msg (docs/ros-messages.md) or "
-                             "ros (docs/ros-target.md); default cpp")
+    parser.add_argument("--target", default=targets[0].name, choices=[t.name for t in targets],
+                        help="what to generate: " + "; ".join(f"{t.name}: {t.help} ({t.doc})" for t in targets)
+                             + f"; default {targets[0].name}")
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (created when missing)")
     parser.add_argument("--templates", type=Path, default=None, metavar="DIR",
                         help="a folder of templates searched before the built-in ones")

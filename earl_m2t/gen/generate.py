@@ -5,9 +5,8 @@ per primitive predicate written in user code) are created once and never touched
 A user file that the model no longer produces is reported as orphaned and kept, and so is
 a generated ROS message that the model no longer produces (a renamed dataType).
 
-The targets are registered in ``_TARGETS``: ``cpp`` (a C++17 CMake project), ``msg``
-(ROS messages) and ``ros`` (ROS 1 catkin packages over the C++ target's code);
-``earl-m2t gen --target`` offers exactly these.
+The targets are registered in ``_TARGETS``, one renderer per entry of
+``transforms/targets.toml`` (the list ``earl-m2t gen --target`` offers).
 """
 
 from __future__ import annotations
