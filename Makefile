@@ -17,6 +17,7 @@ setup: $(STAMP)
 demo: $(STAMP)
 	$(VENV)/bin/earl-m2t check $(SAMPLE)
 	$(VENV)/bin/earl-m2t show $(SAMPLE)
+	$(VENV)/bin/earl-m2t report $(SAMPLE) -o build/report
 
 test: $(STAMP)
 	$(PY) -m pytest -q

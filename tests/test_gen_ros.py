@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from earl_m2t.api import load
+from earl_m2t.gen import GenError, render
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
@@ -71,11 +72,16 @@ def launch_remaps(src: Path) -> dict[str, str]:
     return remaps
 
 
+def snake(name: str) -> str:
+    """A sample name in snake_case: motorController3/ve -> motor_controller3_ve."""
+    return re.sub(r"\W+", "_", re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", name)).lower()
+
+
 def topic(buffer_path: str) -> str:
-    """The documented topic of a buffer: /<agent>/<subsystem>/<buffer> in C++ identifiers."""
+    """The documented topic of a buffer: /<agent>/<subsystem>/<buffer>, each in snake_case."""
     subsystem_path, _, buffer = buffer_path.rpartition(".")
     agent, _, subsystem = subsystem_path.partition(".")
-    return "/" + "/".join(re.sub(r"\W", "_", part) for part in (agent, subsystem, buffer))
+    return "/" + "/".join(snake(part) for part in (agent, subsystem, buffer))
 
 
 def test_gen_writes_a_package_per_agent_the_messages_and_the_bringup(workspace: tuple[Path, str]) -> None:
@@ -111,13 +117,54 @@ def test_every_subsystem_instance_is_a_node_of_its_agents_launch_file(workspace:
     assert names == {sub.path for sub in model.subsystems}
 
 
+def test_packages_nodes_and_topics_are_snake_case_and_messages_camel_case(workspace: tuple[Path, str]) -> None:
+    ws, _ = workspace
+    snake_name = re.compile(r"^[a-z][a-z0-9_]*$")
+    assert all(snake_name.match(p.parent.name) for p in (ws / "src").glob("*/package.xml"))
+    assert all(re.match(r"^[A-Z][A-Za-z0-9]*$", m.stem) for m in (ws / "src").glob("*/msg/*.msg"))
+    for launch in sorted((ws / "src").glob("*/launch/*.launch")):
+        root = ElementTree.parse(launch).getroot()
+        for node in root.iter("node"):
+            assert all(snake_name.match(node.get(key, "")) for key in ("name", "ns", "type", "pkg")), node.attrib
+            for remap in node.iter("remap"):
+                for name in (remap.get("from", ""), remap.get("to", "")):
+                    assert name.startswith("/") and all(snake_name.match(part) for part in name[1:].split("/")), name
+            for param in node.iter("param"):
+                assert snake_name.match(param.get("name", "")), param.attrib
+
+
+def test_names_that_collide_as_ros_names_are_refused_or_forced_apart(tmp_path: Path) -> None:
+    # manipulator_state/ib and manipulatorState/ib are distinct C++ identifiers, one ROS topic
+    text = SAMPLE.read_text(encoding="utf-8").replace("gripperStatus/ib", "manipulator_state/ib")
+    model = tmp_path / "model.uml"
+    model.write_text(text, encoding="utf-8")
+    shutil.copy(SAMPLE.parent / "EARL.profile.uml", tmp_path / "EARL.profile.uml")
+    refused = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros", "-o",
+                              str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert refused.returncode != 0 and not (tmp_path / "out").exists()
+    # the check finds it first (D004), at the second buffer ...
+    assert refused.stderr.splitlines()[0].endswith(
+        "D004 error: task/a.cs.manipulator_state/ib: 'manipulatorState/ib' and 'manipulator_state/ib' map to the "
+        "same ROS name 'manipulator_state_ib' [task/a.cs.manipulator_state/ib]")
+    # ... and the generator refuses it too when asked without the check
+    with pytest.raises(GenError) as refusal:
+        render(load(model).model, "ros")
+    assert str(refusal.value) == (
+        "D004 task/a.cs.manipulator_state/ib: 'manipulator_state/ib' and 'manipulatorState/ib' both "
+        "map to the ROS topic 'manipulator_state_ib' (--force: 'manipulator_state_ib_2')")
+    run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "ros", "--force", "-o", tmp_path / "out")
+    remaps = launch_remaps(tmp_path / "out")
+    assert remaps["/task_a/cs/manipulator_state_ib"] == "/manip_a/cs/manipulator_state_ob"
+    assert remaps["/task_a/cs/manipulator_state_ib_2"] == "/grip_a/cs/gripper_status_ob"
+
+
 @needs_catkin
 def test_catkin_make_builds_the_messages_and_one_node_per_subsystem_definition(built: Path) -> None:
     nodes = sorted(p.relative_to(built / "devel" / "lib").as_posix()
                    for p in (built / "devel" / "lib").glob("*/*_node"))
-    assert nodes == ["pick_and_place_grip_a/cs_node", "pick_and_place_grip_a/fingerController_ve_node",
-                     "pick_and_place_grip_a/fingerMotor_re_node", "pick_and_place_manip_a/cs_node",
-                     "pick_and_place_manip_a/motorControllerK_ve_node", "pick_and_place_manip_a/motorK_re_node",
+    assert nodes == ["pick_and_place_grip_a/cs_node", "pick_and_place_grip_a/finger_controller_ve_node",
+                     "pick_and_place_grip_a/finger_motor_re_node", "pick_and_place_manip_a/cs_node",
+                     "pick_and_place_manip_a/motor_controller_k_ve_node", "pick_and_place_manip_a/motor_k_re_node",
                      "pick_and_place_task_a/cs_node"]
     assert (built / "devel" / "include" / "pick_and_place_msgs" / "ManipulatorCommand.h").is_file()
 

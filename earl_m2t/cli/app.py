@@ -16,6 +16,7 @@ from earl_m2t import __version__
 from earl_m2t.cli import check as check_command
 from earl_m2t.cli import gen as gen_command
 from earl_m2t.cli import profile as profile_command
+from earl_m2t.cli import report as report_command
 from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
@@ -38,6 +39,7 @@ def build_parser() -> argparse.ArgumentParser:
     stats_command.add_parser(commands)
     profile_command.add_parser(commands)
     gen_command.add_parser(commands)
+    report_command.add_parser(commands)
     return parser
 
 

@@ -19,6 +19,7 @@ from earl_m2t.api import check_loaded, load
 from earl_m2t.check.engine import CheckOptions
 from earl_m2t.check.registry import catalogue, select_codes
 from earl_m2t.check.user_rules import UserRule, parse_user_rules
+from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
@@ -37,9 +38,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                              "replaces the configuration's")
     parser.add_argument("--ignore", default=None, metavar="CODES",
                         help="comma-separated codes or prefixes to skip; replaces the configuration's")
-    parser.add_argument("--config", type=Path, default=None, metavar="FILE",
-                        help="earl-m2t.toml or pyproject.toml to use instead of the one found from here upwards")
-    parser.add_argument("--no-config", action="store_true", help="use no configuration file")
+    add_config_options(parser)
     parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N", help="check N files at a time")
     add_dialect_option(parser)
     parser.set_defaults(run=run)
@@ -96,8 +95,11 @@ def _config(args: argparse.Namespace) -> Config:
 
 
 def settings(args: argparse.Namespace) -> Settings:
-    """The options of the run: configuration, then the command line over it."""
+    """The options of the run: configuration, then the command line over it (``--select`` and
+    ``--ignore`` where the command has them)."""
     config = _config(args)
+    select_arg: str | None = getattr(args, "select", None)
+    ignore_arg: str | None = getattr(args, "ignore", None)
     where = f"{shown(config.file)}: error: " if config.file else "earl-m2t: "
     user_rules: list[UserRule] = []
     for file in config.rules:
@@ -108,12 +110,12 @@ def settings(args: argparse.Namespace) -> Settings:
             raise ConfigError(config.file or display, f"rule file {display}: {exc.strerror or exc}") from None
         user_rules.extend(parse_user_rules(text, display))
     rules = tuple(user_rules)
-    if args.select is not None:
-        select = expand(_codes(args.select), rules, "earl-m2t: ") if args.select else None
+    if select_arg is not None:
+        select = expand(_codes(select_arg), rules, "earl-m2t: ") if select_arg else None
     else:
         select = expand(config.select, rules, f"{where}'select': ") if config.select is not None else None
-    if args.ignore is not None:
-        ignore = expand(_codes(args.ignore), rules, "earl-m2t: ")
+    if ignore_arg is not None:
+        ignore = expand(_codes(ignore_arg), rules, "earl-m2t: ")
     else:
         ignore = expand(config.ignore, rules, f"{where}'ignore': ")
     severities = tuple((code, level) for selector, level in config.severity
@@ -133,6 +135,12 @@ class Outcome:
     diagnostics: list[Diagnostic]
     error: str = ""  # the one line of an unreadable file
     unreadable: dict[str, object] | None = None
+
+
+def options_for_model(args: argparse.Namespace, model: str) -> CheckOptions:
+    """The options one model is checked with by ``gen`` and ``report``. Raises ConfigError,
+    UsageError or SourceTextError (one line each)."""
+    return settings(args).options_for(model)
 
 
 def check_file(file: str, options: CheckOptions, dialect: str | None) -> Outcome:

@@ -13,6 +13,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.gen.target_names import gen_targets
 
@@ -30,24 +31,31 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                         help="a folder of templates searched before the built-in ones")
     parser.add_argument("--force", action="store_true",
                         help="generate even when the model has error findings")
+    add_config_options(parser)
     add_dialect_option(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import check_loaded, load
-    from earl_m2t.check.engine import CheckOptions
-    from earl_m2t.diagnostics import ModelReadError, Severity
+    from earl_m2t.cli.check import UsageError, options_for_model
+    from earl_m2t.config import ConfigError
+    from earl_m2t.diagnostics import ModelReadError, SourceTextError, Severity
     from earl_m2t.gen import GenError, generate
     from earl_m2t.output import OutputError
     from earl_m2t.render.diagnostics import text_line
 
     try:
+        options = options_for_model(args, args.model)
+    except (ConfigError, UsageError, SourceTextError) as error:
+        print(str(error).splitlines()[0], file=sys.stderr)
+        return 2
+    try:
         loaded = load(args.model, getattr(args, "dialect", None))
     except ModelReadError as error:
         print(f"earl-m2t: gen: {error}", file=sys.stderr)
         return 2
-    errors = [d for d in check_loaded(loaded, CheckOptions()) if d.severity == Severity.ERROR]
+    errors = [d for d in check_loaded(loaded, options) if d.severity == Severity.ERROR]
     if errors and not args.force:
         for diagnostic in errors:
             print(text_line(diagnostic), file=sys.stderr)

@@ -16,9 +16,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
+from earl_m2t.gen import diagrams as diagrams_gen
+from earl_m2t.gen import markdown as markdown_gen
 from earl_m2t.gen.engine import environment, load_target, render as render_template, target_dir
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.views import msg as msg_view
+from earl_m2t.gen.views import orocos as orocos_view
 from earl_m2t.gen.views import ros as ros_view
 from earl_m2t.gen.views.cpp import CppTarget, build_view
 from earl_m2t.model.elements import EarlModel
@@ -122,6 +125,23 @@ def _render_msg(model: EarlModel, templates: Path | None, strict: bool) -> Rende
     return Rendered(generated, {})
 
 
+def _cpp_runtime_and_headers(cpp: Rendered, prefix: str) -> dict[str, bytes]:
+    """The C++ target's runtime and generated headers, which the ROS and Orocos code includes."""
+    generated: dict[str, bytes] = {}
+    for path, content in sorted(cpp.generated.items()):
+        if path.startswith(("runtime/", "generated/include/")):
+            _put(generated, prefix + path, content)
+    return generated
+
+
+def _beside_user_files(generated: dict[str, bytes], cpp: Rendered) -> Rendered:
+    """A target's files with the C++ target's user files, which they must not overwrite."""
+    clash = sorted(set(generated) & set(cpp.user))
+    if clash:
+        raise GenError(f"a user file and a generated file share the path {clash[0]}")
+    return Rendered(generated, cpp.user)
+
+
 def _render_ros(model: EarlModel, templates: Path | None, strict: bool) -> Rendered:
     """Catkin packages: the messages (``--target msg``), one package per agent (a node per
     subsystem definition, a launch file) and ``<model>_bringup`` (the system's launch file),
@@ -132,12 +152,9 @@ def _render_ros(model: EarlModel, templates: Path | None, strict: bool) -> Rende
     msg_target = msg_view.MsgTarget.from_spec(load_target("msg"))
     view = ros_view.build_view(model, build_view(model, _cpp_target()),
                                msg_view.build_view(model, msg_target, strict), msg_target,
-                               ros_view.RosTarget.from_spec(spec))
+                               ros_view.RosTarget.from_spec(spec), strict)
     env = environment("ros", templates)
-    generated: dict[str, bytes] = {}
-    for path, content in sorted(cpp.generated.items()):
-        if path.startswith(("runtime/", "generated/include/")):
-            _put(generated, "earl/" + path, content)
+    generated = _cpp_runtime_and_headers(cpp, "earl/")
     for path, content in sorted(msg.generated.items()):
         _put(generated, path, content)
     system, groups = view.system, spec["templates"]
@@ -154,14 +171,43 @@ def _render_ros(model: EarlModel, templates: Path | None, strict: bool) -> Rende
         for template, pattern in sorted(groups["node"].items()):
             _put(generated, pattern.format(package=node["package"], node=node["exe"].removesuffix("_node"), **names),
                  render_template(env, template, system=system, node=node))
-    clash = sorted(set(generated) & set(cpp.user))
-    if clash:
-        raise GenError(f"a user file and a generated file share the path {clash[0]}")
-    return Rendered(generated, cpp.user)
+    return _beside_user_files(generated, cpp)
+
+
+def _render_orocos(model: EarlModel, templates: Path | None, strict: bool) -> Rendered:
+    """Orocos RTT 2.x component libraries (a master component per subsystem definition, a
+    component per pf), deployer scripts and the FABRIC subsystem models and run-time
+    configurations, next to the C++ target's runtime, headers and user files."""
+    cpp = _render_cpp(model, templates, strict)
+    spec = load_target("orocos")
+    msg_target = msg_view.MsgTarget.from_spec(load_target("msg"))
+    view = orocos_view.build_view(
+        model, build_view(model, _cpp_target()), msg_view.build_view(model, msg_target, strict), msg_target,
+        orocos_view.OrocosTarget.from_spec(spec, dict(load_target("ros")["std_msgs"])))
+    env = environment("orocos", templates)
+    generated = _cpp_runtime_and_headers(cpp, "")
+    groups, system = spec["templates"], view.system
+    for template, pattern in sorted(groups["system"].items()):
+        _put(generated, pattern, render_template(env, template, system=system))
+    for definition in view.definitions:
+        for template, pattern in sorted(groups["definition"].items()):
+            _put(generated, pattern.format(agent=definition["agent"], sub=definition["sub"]),
+                 render_template(env, template, system=system, d=definition, f=definition["fabric"]))
+    for instance in view.instances:
+        for template, pattern in sorted(groups["instance"].items()):
+            _put(generated, pattern.format(instance=instance["name"]),
+                 render_template(env, template, system=system, i=instance))
+    runtime = target_dir("orocos") / spec.get("runtime", "runtime")
+    for path in sorted(runtime.rglob("*")):
+        if path.is_file():
+            _put(generated, "runtime/" + path.relative_to(runtime).as_posix(), path.read_bytes())
+    return _beside_user_files(generated, cpp)
 
 
 _TARGETS: dict[str, Callable[[EarlModel, Path | None, bool], Rendered]] = {
-    "cpp": _render_cpp, "msg": _render_msg, "ros": _render_ros}
+    "cpp": _render_cpp, "msg": _render_msg, "ros": _render_ros,
+    "diagrams": diagrams_gen.render_target, "diagrams-png": diagrams_gen.render_target_png,
+    "markdown": markdown_gen.render_target, "orocos": _render_orocos}
 TARGETS = tuple(_TARGETS)
 
 

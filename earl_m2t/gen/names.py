@@ -13,10 +13,9 @@ from __future__ import annotations
 
 import re
 import tomllib
-import unicodedata
 from functools import cache
 
-from earl_m2t.model.naming import identifier
+from earl_m2t.model.naming import ascii_fold, identifier
 from earl_m2t.resources import metamodel_path
 
 # names the generated code itself uses, or standard macros, in any scope
@@ -32,23 +31,9 @@ def _keywords() -> frozenset[str]:
     return frozenset(table["cpp_keywords"]) | {"final", "override", "import", "module"}
 
 
-def _ascii(text: str) -> str:
-    out = []
-    for char in unicodedata.normalize("NFKD", text):
-        if char.isascii():
-            out.append(char)
-        elif unicodedata.combining(char):
-            continue
-        elif char.isalnum():
-            out.append(f"u{ord(char):04x}")
-        else:
-            out.append("_")
-    return "".join(out)
-
-
 def cpp_identifier(name: str) -> str:
     """The C++ identifier of an EARL name (``motionFinished/m`` → ``motionFinished_m``)."""
-    text = re.sub(r"[^A-Za-z0-9_]", "_", _ascii(identifier(name.strip())))
+    text = re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(identifier(name.strip())))
     text = re.sub(r"_+", "_", text).strip("_")
     if not text:
         text = "unnamed"

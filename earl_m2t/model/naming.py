@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import tomllib
+import unicodedata
 from functools import cache
 
 from earl_m2t.resources import metamodel_path
@@ -52,3 +53,38 @@ def sanitised(name: str) -> str:
 def collision_key(name: str) -> str:
     """Two names with the same key clash as identifiers or as file names on a case-insensitive disk."""
     return sanitised(name).lower()
+
+
+def ascii_fold(text: str) -> str:
+    """ASCII of a name: accents dropped (``ü`` → ``u``), other letters ``uXXXX``, the rest ``_``."""
+    out = []
+    for char in unicodedata.normalize("NFKD", text):
+        if char.isascii():
+            out.append(char)
+        elif unicodedata.combining(char):
+            continue
+        elif char.isalnum():
+            out.append(f"u{ord(char):04x}")
+        else:
+            out.append("_")
+    return "".join(out)
+
+
+def words(name: str) -> list[str]:
+    """The words of a name: ``jointPosSetpoint`` → joint Pos Setpoint, ``XMLParser`` → XML Parser."""
+    text = ascii_fold(identifier(name.strip()))
+    text = re.sub(r"([a-z0-9])([A-Z])", r"\1 \2", text)
+    text = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", text)
+    return [w for w in re.split(r"[^A-Za-z0-9]+", text) if w]
+
+
+def message_name(name: str) -> str:
+    """``motor state`` → ``MotorState``; a leading digit gets ``M``, an empty name is ``Unnamed``."""
+    text = "".join(w[0].upper() + w[1:] for w in words(name)) or "Unnamed"
+    return "M" + text if text[0].isdigit() else text
+
+
+def field_name(name: str) -> str:
+    """``jointPosSetpoint`` → ``joint_pos_setpoint``; a leading digit gets ``n``."""
+    text = "_".join(w.lower() for w in words(name)) or "unnamed"
+    return "n" + text if text[0].isdigit() else text

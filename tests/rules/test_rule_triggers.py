@@ -848,6 +848,27 @@ def datatype_names_differ_in_case(s: Sample) -> Expect:
     return Expect(s.id(datatype), "motorCurrent")
 
 
+def field_names_differ_in_ros_spelling(s: Sample) -> Expect:
+    """D004: GripperStatus gets a field motion_finished next to motionFinished: distinct C++
+    identifiers, but one snake_case ROS field name."""
+    original = s.attribute("GripperStatus", "motionFinished")
+    field = copy.deepcopy(original)
+    for el in field.iter():
+        if el.get(XMI_ID):
+            el.set(XMI_ID, s.new_id())
+    field.set("name", "motion_finished")
+    original.addnext(field)
+    return Expect(s.id(field), "motion_finished")
+
+
+def datatype_names_differ_in_ros_spelling(s: Sample) -> Expect:
+    """D004: the dataType EncoderReading is renamed Motor_Current, next to MotorCurrent: both
+    become the ROS message MotorCurrent."""
+    datatype = s.datatype("EncoderReading")
+    datatype.set("name", "Motor_Current")
+    return Expect(s.id(datatype), "Motor_Current")
+
+
 # ---- R: reading and recognition ---------------------------------------------------------
 
 
@@ -980,6 +1001,8 @@ VARIANTS: dict[str, Mutation] = {
     "D003": name_not_identifier,
     "D004": memory_names_differ_in_case,
     "D004-datatype-case": datatype_names_differ_in_case,
+    "D004-ros-field": field_names_differ_in_ros_spelling,
+    "D004-ros-message": datatype_names_differ_in_ros_spelling,
     "R001": part_name_contradicts_block,
     "R001-block-suffix": block_suffix_contradicts_stereotype,
     "R002": duplicate_xmi_id,

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Iterator
+from typing import Callable, Iterator
 
 import networkx as nx
 
@@ -10,7 +10,7 @@ from earl_m2t.check.registry import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, Memory, PartialFunction, PrimitivePredicate
 from earl_m2t.model.graph import datatype_graph
 from earl_m2t.model.location import Location
-from earl_m2t.model.naming import collision_key, identifier_problem
+from earl_m2t.model.naming import collision_key, field_name, identifier_problem, message_name
 
 
 @rule("D001")
@@ -43,34 +43,40 @@ def recursive_datatype(model: EarlModel) -> Iterator[Finding]:
         yield Finding(f"dataType {start} contains itself by value ({shown})", datatype.location, start)
 
 
-def _named(model: EarlModel) -> Iterator[tuple[str, str, Location, str]]:
-    """(name, path, location, scope) of every element whose name a generator uses."""
+def _named(model: EarlModel) -> Iterator[tuple[str, str, Location, str, str]]:
+    """(name, path, location, scope, ROS naming) of every element whose name a generator uses.
+    The ROS naming is how the ROS targets spell it: "snake" (namespaces, nodes, topics,
+    fields), "message" (message types) or "" (no ROS name)."""
     for agent in model.agents:
-        yield agent.name, agent.path, agent.location, "agents"
+        yield agent.name, agent.path, agent.location, "agents", "snake"
         for sub in agent.subsystems:
-            yield sub.name, sub.path, sub.location, f"{agent.path} subsystems"
+            yield sub.name, sub.path, sub.location, f"{agent.path} subsystems", "snake"
     for sub in model.definitions():
         scope = f"{sub.path} members"
-        members: list[Buffer | Memory | PartialFunction | PrimitivePredicate] = [
-            *sub.buffers, *sub.memory, *sub.functions, *sub.predicates]
-        for item in members:
-            yield item.name, item.path, item.location, scope
+        for buffer in sub.buffers:
+            yield buffer.name, buffer.path, buffer.location, scope, "snake"
+        others: list[Memory | PartialFunction | PrimitivePredicate] = [*sub.memory, *sub.functions, *sub.predicates]
+        for item in others:
+            yield item.name, item.path, item.location, scope, ""
         for bb in sub.behaviours:
-            yield bb.name, bb.path, bb.location, f"{sub.path} behaviours"
+            yield bb.name, bb.path, bb.location, f"{sub.path} behaviours", ""
         if sub.fsm is not None:
             for state in sub.fsm.states:
-                yield state.name, state.path, state.location, f"{sub.fsm.path} states"
+                yield state.name, state.path, state.location, f"{sub.fsm.path} states", ""
     for key, datatype in model.datatypes.items():
         if datatype.location.file == "<builtin>":
             continue
-        yield datatype.name, key, datatype.location, "dataTypes"
+        yield datatype.name, key, datatype.location, "dataTypes", "message"
         for field in datatype.fields:
-            yield field.name, f"{key}.{field.name}", field.location, f"{key} fields"
+            yield field.name, f"{key}.{field.name}", field.location, f"{key} fields", "snake"
+
+
+_ROS_KEYS: dict[str, Callable[[str], str]] = {"snake": field_name, "message": lambda name: message_name(name).lower()}
 
 
 @rule("D003")
 def name_not_identifier(model: EarlModel) -> Iterator[Finding]:
-    for name, path, location, _ in _named(model):
+    for name, path, location, _, _ in _named(model):
         problem = identifier_problem(name)
         if problem:
             yield Finding(f"{path}: the name cannot become a C++ / ROS identifier: {problem}", location, path)
@@ -79,13 +85,25 @@ def name_not_identifier(model: EarlModel) -> Iterator[Finding]:
 @rule("D004")
 def identifier_collision(model: EarlModel) -> Iterator[Finding]:
     by_scope: dict[tuple[str, str], list[tuple[str, str, Location]]] = {}
-    for name, path, location, scope in _named(model):
+    by_ros_name: dict[tuple[str, str], list[tuple[str, str, Location]]] = {}
+    for name, path, location, scope, ros in _named(model):
         by_scope.setdefault((scope, collision_key(name)), []).append((name, path, location))
+        if ros:
+            by_ros_name.setdefault((scope, _ROS_KEYS[ros](name)), []).append((name, path, location))
+    reported: set[str] = set()
     for (_, key), items in by_scope.items():
         names = list(dict.fromkeys(name for name, _, _ in items))
         _, path, location = items[-1]
         if len(names) > 1:
+            reported.add(path)
             yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier or file "
                           f"name '{key}'", location, path)
         elif len({loc for _, _, loc in items}) > 1:
+            reported.add(path)
             yield Finding(f"{path}: {len(items)} elements are named '{names[0]}'", location, path)
+    for (_, key), items in by_ros_name.items():
+        names = list(dict.fromkeys(name for name, _, _ in items))
+        _, path, location = items[-1]
+        if len(names) > 1 and path not in reported:
+            yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same ROS name '{key}'",
+                          location, path)

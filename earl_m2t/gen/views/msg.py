@@ -17,9 +17,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.names import _ascii
 from earl_m2t.model.elements import DataType, EarlModel, Field
-from earl_m2t.model.naming import _table, identifier, identifier_problem
+from earl_m2t.model.naming import _table, field_name, identifier, identifier_problem, message_name
 
 Data = dict[str, Any]
 
@@ -66,26 +65,6 @@ class MsgView:
 
 
 # ---------------------------------------------------------------------- names
-
-
-def _words(name: str) -> list[str]:
-    """The words of a name: ``jointPosSetpoint`` → joint Pos Setpoint, ``XMLParser`` → XML Parser."""
-    text = _ascii(identifier(name.strip()))
-    text = re.sub(r"([a-z0-9])([A-Z])", r"\1 \2", text)
-    text = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", text)
-    return [w for w in re.split(r"[^A-Za-z0-9]+", text) if w]
-
-
-def message_name(name: str) -> str:
-    """``motor state`` → ``MotorState``; a leading digit gets ``M``, an empty name is ``Unnamed``."""
-    text = "".join(w[0].upper() + w[1:] for w in _words(name)) or "Unnamed"
-    return "M" + text if text[0].isdigit() else text
-
-
-def field_name(name: str) -> str:
-    """``jointPosSetpoint`` → ``joint_pos_setpoint``; a leading digit gets ``n``."""
-    text = "_".join(w.lower() for w in _words(name)) or "unnamed"
-    return "n" + text if text[0].isdigit() else text
 
 
 def constant_name(name: str) -> str:

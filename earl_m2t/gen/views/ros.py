@@ -1,10 +1,12 @@
 """The view of the ROS 1 target: catkin packages around the C++ target's generated code.
 
 It is built from the C++ view (classes, port members, dataTypes) and the msg view (message
-and field names), so the two targets never disagree on a name. Topic naming (see
-docs/ros-target.md): every buffer of a subsystem instance is the topic
-``/<agent>/<subsystem>/<buffer>``, named by the C++ identifiers of the agent, the instance
-and the buffer instance (``/manip_a/motorController3_ve/encoder_ib``). A node publishes each
+and field names), so the two targets never disagree on a name. Naming (see
+docs/ros-target.md): packages, nodes and topics are snake_case (``field_name`` of the msg
+target), messages CamelCase (the msg view); every buffer of a subsystem instance is the topic
+``/<agent>/<subsystem>/<buffer>`` (``/manip_a/motor_controller3_ve/encoder_ib``). Two names
+of one scope that map to the same ROS name are refused (D004), or with ``--force`` get
+``_2``, ``_3`` …. A node publishes each
 output buffer on its own topic and subscribes each input buffer on its own topic; a link
 remaps the input's topic onto the output's, so the links of the model are exactly the
 connections of the running graph.
@@ -60,8 +62,29 @@ def _name(text: str, what: str) -> str:
     return name
 
 
+class _Scope:
+    """Hands out distinct snake_case ROS names in one scope (a namespace, a node, a package)."""
+
+    def __init__(self, what: str, strict: bool) -> None:
+        self.what = what
+        self.strict = strict
+        self.taken: dict[str, str] = {}  # ROS name -> the name it was made from
+
+    def take(self, name: str, where: str) -> str:
+        ros = base = _name(field_name(name), self.what)
+        n = 1
+        while ros in self.taken:
+            n += 1
+            ros = f"{base}_{n}"
+        if n > 1 and self.strict:
+            raise GenError(f"D004 {where}: '{name}' and '{self.taken[base]}' both map to the ROS {self.what} "
+                           f"'{base}' (--force: '{ros}')")
+        self.taken[ros] = name
+        return ros
+
+
 def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTarget,
-               target: RosTarget) -> RosView:
+               target: RosTarget, strict: bool = True) -> RosView:
     system = model.system
     if system is None:
         raise GenError("the model has no EARL System to generate")
@@ -85,18 +108,22 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     agent_of: dict[str, Data] = {}
     packages: list[Data] = []
     taken_packages = {msgs.package}
+    namespaces = _Scope("namespace", strict)
     for agent_view in cpp.agents:
         package_name = f"{stem}_{field_name(agent_view['ns'])}"
-        if package_name in taken_packages or not PACKAGE_NAME.match(package_name):
-            raise GenError(f"agent {agent_view['path']}: package name {package_name} is taken or invalid")
+        if not PACKAGE_NAME.match(package_name):
+            raise GenError(f"D003 agent {agent_view['path']}: the package name {package_name} is not a ROS name")
+        if package_name in taken_packages:
+            raise GenError(f"D004 agent {agent_view['path']}: the package name {package_name} is taken")
         taken_packages.add(package_name)
-        entry: Data = {"name": package_name, "ns": _name(agent_view["ns"], "agent"), "path": agent_view["path"],
+        entry: Data = {"name": package_name, "ns": namespaces.take(agent_view["ns"], agent_view["path"]),
+                       "path": agent_view["path"],
                  "comment": agent_view["comment"], "nodes": [], "instances": [], "depends": set()}
         packages.append(entry)
         agent_of[agent_view["path"]] = entry
     bringup = stem + target.bringup_suffix
     if bringup in taken_packages:
-        raise GenError(f"package name {bringup} is taken")
+        raise GenError(f"D004 the package name {bringup} is taken")
 
     # subsystem definitions -> nodes
     first_instance: dict[str, Any] = {}
@@ -105,9 +132,13 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     nodes: list[Data] = []
     node_of_block: dict[str, Data] = {}
     package: Data
+    executables: dict[str, _Scope] = {}
     for definition in cpp.subsystems:
         sub = first_instance[definition["block_id"]]
         package = agent_of[sub.agent]
+        exe = executables.setdefault(package["name"], _Scope("executable", strict)).take(
+            definition["sub"], sub.path) + "_node"
+        topics = _Scope("topic", strict)
         ports = {p["member"]: p for p in definition["ports"]}
         by_template: dict[str, list[Any]] = {}
         for buf in sub.buffers:
@@ -121,15 +152,14 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
             headers.add(header)
             for buf in sorted(bufs, key=lambda b: b.index):
                 access = f"data.{member}" + (f"[{buf.index - 1}]" if buf.index else "")
-                topic = _name(buf.name, "buffer")
+                topic = topics.take(buf.name, buf.path)
                 n = len(elements)
                 elements.append({"kind": port["kind"], "access": access, "topic": topic, "type": port["type"],
                                  "msg": msg_type, "suffix": suffix, "links": port["links"], "id": n,
                                  "template": template, "index": buf.index,
                                  "topics": [topic] if port["links"] == 1 or port["kind"] == "ob"
-                                 else [f"{topic}_link{k + 1}" for k in range(port["links"])]})
-        node = {"target": f"{package['name']}_{definition['sub']}", "exe": f"{definition['sub']}_node",
-                "source": f"src/{definition['sub']}_node.cpp", "package": package["name"],
+                                 else [topics.take(f"{topic}_link{k + 1}", buf.path) for k in range(port["links"])]})
+        node = {"target": f"{package['name']}_{exe}", "exe": exe, "source": f"src/{exe}.cpp", "package": package["name"],
                 "cls": f"::{definition['ns']}::Subsystem",
                 "include": f"{model_ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp",
                 "path": cpp_string(sub.path), "comment": definition["comment"], "model_ns": model_ns,
@@ -146,9 +176,10 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     instance_of: dict[str, Data] = {}
     for agent_view, agent in zip(cpp.agents, system.agents):
         package = agent_of[agent_view["path"]]
+        node_names = _Scope("node", strict)
         for instance_view, sub in zip(agent_view["instances"], agent.subsystems):
             node = node_of_block[sub.block_id]
-            name = _name(instance_view["member"], "subsystem")
+            name = node_names.take(instance_view["member"], sub.path)
             instance = {"name": name, "ns": package["ns"], "pkg": node["package"], "type": node["exe"],
                         "path": sub.path, "remaps": []}
             if node["package"] != package["name"]:

@@ -1,0 +1,65 @@
+"""``earl-m2t report MODEL -o DIR``: a static HTML specification of a model.
+
+Writes ``DIR/index.html`` (tables after the EARL paper, the findings of the check, every
+element with an id) and ``DIR/diagrams/`` (Graphviz sources and SVG, PNG with ``--png``),
+through :mod:`earl_m2t.output`. The report is written whatever the findings; the exit code
+is 0 when it was written, 1 when the diagrams cannot be made (``dot`` missing or warning),
+2 for an unreadable model or an unwritable folder. See docs/diagrams-and-report.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from earl_m2t.cli.config_option import add_config_options
+from earl_m2t.cli.dialect_option import add_dialect_option
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    parser = commands.add_parser("report", help="write a static HTML specification of a model",
+                                 description="Write an HTML specification of an EARL model: diagrams, the "
+                                             "paper-style tables and the findings of the check.")
+    parser.add_argument("model", metavar="MODEL", help="the model file")
+    parser.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (created when missing)")
+    parser.add_argument("--png", action="store_true", help="also write a PNG of every diagram")
+    parser.add_argument("--templates", type=Path, default=None, metavar="DIR",
+                        help="a folder of report templates searched before the built-in ones")
+    add_config_options(parser)
+    add_dialect_option(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from earl_m2t.api import check_loaded, load
+    from earl_m2t.cli.check import UsageError, options_for_model
+    from earl_m2t.config import ConfigError
+    from earl_m2t.diagnostics import ModelReadError, SourceTextError
+    from earl_m2t.gen.errors import GenError
+    from earl_m2t.gen.report import render_report
+    from earl_m2t.output import OutputError, write_files
+
+    try:
+        options = options_for_model(args, args.model)
+    except (ConfigError, UsageError, SourceTextError) as error:
+        print(str(error).splitlines()[0], file=sys.stderr)
+        return 2
+    try:
+        loaded = load(args.model, getattr(args, "dialect", None))
+    except ModelReadError as error:
+        print(f"earl-m2t: report: {error}", file=sys.stderr)
+        return 2
+    findings = check_loaded(loaded, options)
+    try:
+        files = render_report(loaded.model, findings, png=args.png, templates=args.templates)
+        written = write_files(args.output, files)
+    except GenError as error:
+        print(f"earl-m2t: report: {error}", file=sys.stderr)
+        return 1
+    except OutputError as error:
+        print(f"earl-m2t: report: {error}", file=sys.stderr)
+        return 2
+    index = Path(args.output) / "index.html"
+    print(f"report {index}: {len(written.written)} file(s) written, {len(written.unchanged)} unchanged")
+    return 0

@@ -1,0 +1,142 @@
+"""What the diagrams show, as plain data for the DOT templates of ``transforms/diagrams/``.
+
+Four kinds of diagram, each named by the anchor of its element (see
+:mod:`earl_m2t.gen.views.anchors`):
+
+- ``system``: the agents (with their Table 2 type), grouped by robot, and the inter-agent
+  links labelled with their dataType;
+- ``agent-<agent>``: the agent's subsystems grouped by kind, each with its buffers, and the
+  inter-subsystem links from Output Buffer to Input Buffer labelled with their dataType;
+- ``fsm-<subsystem>``: the FSM of a subsystem definition: states with their basic
+  behaviour, the initial state, transitions labelled with condition and priority;
+- ``tf-<behaviour>``: a basic behaviour's transition function: its pf stage by stage, what
+  each pf reads (Input Buffers, memory) and writes (memory, Output Buffers).
+
+Node and edge order follows the model, so ``dot`` lays a model out the same way every time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from earl_m2t.gen.views.tables import SpecTables, SubsystemTables
+from earl_m2t.model.elements import SUBSYSTEM_KINDS, Agent, EarlModel
+
+
+@dataclass(frozen=True)
+class Diagram:
+    name: str  # file stem: ``system``, ``agent-manip-a`` …
+    kind: str  # "system" | "agent" | "fsm" | "tf"
+    title: str
+    element: str  # anchor of the element it shows
+    context: dict[str, Any]  # the template's data
+
+
+def build_diagrams(model: EarlModel, tables: SpecTables) -> tuple[Diagram, ...]:
+    diagrams = [_system(model, tables)]
+    agents = {a.path: a for a in model.agents}
+    for agent_tables in tables.agents:
+        diagrams.append(_agent(model, agents[agent_tables.name], tables))
+    for sub in tables.subsystems:
+        if sub.states:
+            diagrams.append(_fsm(sub))
+        for index, _bb in enumerate(sub.behaviours):
+            diagrams.append(_tf(sub, index))
+    return tuple(diagrams)
+
+
+def _system(model: EarlModel, tables: SpecTables) -> Diagram:
+    ids = {row.name: f"a{i}" for i, row in enumerate(tables.agent_types)}
+    agents = [{"id": ids[row.name], "name": row.name, "type": row.type, "description": row.description,
+               "block": row.block} for row in tables.agent_types]
+    robots = [{"id": f"cluster_r{i}", "name": robot.name, "agents": [ids[a] for a in robot.agents if a in ids]}
+              for i, robot in enumerate(model.robots)]
+    links = []
+    for link in tables.links:
+        source, target = model.subsystem_of(link.source), model.subsystem_of(link.target)
+        if source is None or target is None or source.agent not in ids or target.agent not in ids:
+            continue
+        links.append({"source": ids[source.agent], "target": ids[target.agent], "datatype": link.datatype,
+                      "name": link.name})
+    return Diagram(name="system", kind="system", title=f"system {tables.system}", element=tables.system_anchor,
+                   context={"title": f"{tables.system}: agents and inter-agent links", "agents": agents,
+                            "robots": robots, "links": links})
+
+
+def _agent(model: EarlModel, agent: Agent, tables: SpecTables) -> Diagram:
+    anchor = tables.anchors.get(agent.path)
+    node_of: dict[str, str] = {}  # subsystem path -> node id
+    port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (node id, port)
+    groups = []
+    for kind in SUBSYSTEM_KINDS:
+        members = []
+        for sub in agent.of_kind(kind):
+            node = f"s{len(node_of)}"
+            node_of[sub.path] = node
+            buffers = []
+            for number, buf in enumerate(sub.buffers):
+                port = f"p{number}"
+                port_of[buf.path] = (node, port)
+                datatype = model.datatypes.get(buf.datatype)
+                buffers.append({"port": port, "name": buf.name, "direction": buf.direction,
+                                "datatype": datatype.name if datatype else (buf.type_ref or "?")})
+            members.append({"id": node, "name": sub.name, "block": sub.block,
+                            "inputs": [b for b in buffers if b["direction"] == "in"],
+                            "outputs": [b for b in buffers if b["direction"] == "out"]})
+        if members:
+            groups.append({"id": f"cluster_{kind}", "kind": kind, "title": tables.kinds.get(kind, kind),
+                           "members": members})
+    links = []
+    for link in agent.links:
+        if link.source in port_of and link.target in port_of:
+            source = model.buffer(link.source)
+            datatype = model.datatypes.get(source.datatype) if source is not None else None
+            links.append({"source": port_of[link.source], "target": port_of[link.target],
+                          "datatype": datatype.name if datatype else "?"})
+    return Diagram(name=f"agent-{anchor}", kind="agent", title=f"agent {agent.name}", element=anchor,
+                   context={"title": f"{agent.name} (type {agent.computed_type}): subsystems, buffers and links",
+                            "groups": groups, "links": links})
+
+
+def _fsm(sub: SubsystemTables) -> Diagram:
+    ids = {state.name: f"q{i}" for i, state in enumerate(sub.states)}
+    states = [{"id": ids[s.name], "name": s.name, "behaviour": s.behaviour, "initial": s.name == sub.initial}
+              for s in sub.states]
+    transitions = [{"source": ids[t.source], "target": ids[t.target], "name": t.name,
+                    "condition": t.condition or "TRUE", "priority": t.priority}
+                   for t in sub.transitions if t.source in ids and t.target in ids]
+    return Diagram(name=f"fsm-{sub.anchor}", kind="fsm", title=f"FSM of {sub.path}", element=sub.fsm_anchor,
+                   context={"title": f"{sub.path}.fsm", "states": states, "transitions": transitions,
+                            "initial": ids.get(sub.initial, "")})
+
+
+def _tf(sub: SubsystemTables, index: int) -> Diagram:
+    bb = sub.behaviours[index]
+    functions = {f.name: f for f in sub.functions}
+    kind_of = {row.name: row.kind for row in sub.inputs + sub.outputs + sub.memory}
+    storage: dict[str, dict[str, str]] = {}
+
+    def node(name: str) -> str:
+        if name not in storage:
+            storage[name] = {"id": f"d{len(storage)}", "name": name, "kind": kind_of.get(name, "m")}
+        return storage[name]["id"]
+
+    stages: list[dict[str, Any]] = []
+    reads: list[dict[str, str]] = []
+    writes: list[dict[str, str]] = []
+    for number, stage in enumerate(bb.stages, start=1):
+        members = []
+        for position, pf_name in enumerate(stage):
+            pf_id = f"f{number}_{position}"
+            members.append({"id": pf_id, "name": pf_name, "known": pf_name in functions})
+            pf = functions.get(pf_name)
+            if pf is None:
+                continue
+            reads.extend({"source": node(name), "target": pf_id} for name in pf.reads)
+            writes.extend({"source": pf_id, "target": node(name)} for name in pf.writes)
+        stages.append({"id": f"cluster_stage{number}", "number": number, "functions": members})
+    return Diagram(name=f"tf-{bb.anchor}", kind="tf", title=f"transition function of {sub.path}.{bb.name}",
+                   element=bb.anchor,
+                   context={"title": f"{sub.path}.{bb.name}.tf", "stages": stages,
+                            "storage": list(storage.values()), "reads": reads, "writes": writes})

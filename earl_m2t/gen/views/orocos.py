@@ -1,0 +1,279 @@
+"""The view of the Orocos RTT 2.x target: FABRIC-style components around the C++ target's code.
+
+It is built from the C++ view (namespaces, port and memory members, pf accessors, condition
+members, FSM tables) and the msg view (ROS message types of the buffers, named in the FABRIC
+files), so the targets never disagree on a name. Per subsystem definition: one component
+library holding a master component (the generated ``Subsystem``: FSM, conditions, predicates
+as operations) and one component per pf, plus the FABRIC subsystem model; per subsystem
+instance: a deployer script and the FABRIC run-time configuration. See docs/orocos-target.md.
+
+Port names: an element of a buffer or of a pf accessor is ``<name>`` or, replicated,
+``<name>_<k>`` (k = 1 .. N, the instance index of the model). A master talks to its pf
+components through its ports ``<pf>_<port>``, connected to port ``<port>`` of the pf.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+from xml.sax.saxutils import escape
+
+from earl_m2t.gen.errors import GenError
+from earl_m2t.gen.names import cpp_comment, cpp_identifier
+from earl_m2t.gen.views.cpp import CppView
+from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
+from earl_m2t.model.elements import EarlModel, Subsystem
+
+Data = dict[str, Any]
+
+# subsystem kinds by their distance from the control subsystem (FABRIC's top/bottom sides)
+_RANK = {"cs": 0, "ve": 1, "vr": 1, "re": 2, "rr": 2}
+
+
+@dataclass(frozen=True)
+class OrocosTarget:
+    """The data of ``transforms/orocos/target.toml`` the view needs."""
+
+    period: float
+    priority: int
+    scheduler: str
+    policy: str
+    package_suffix: str  # <model>_orocos: the CMake project, the deployer's import() package
+    std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message (the ROS target's table)
+
+    @classmethod
+    def from_spec(cls, spec: dict[str, Any], std_msgs: dict[str, str]) -> OrocosTarget:
+        activity, connection = spec.get("activity", {}), spec.get("connection", {})
+        return cls(period=float(activity.get("period", 0.01)), priority=int(activity.get("priority", 0)),
+                   scheduler=str(activity.get("scheduler", "ORO_SCHED_OTHER")),
+                   policy=str(connection.get("policy", "data")),
+                   package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs)
+
+
+@dataclass
+class OrocosView:
+    system: Data  # libraries, instances, links
+    definitions: list[Data]  # one per subsystem definition: a component library, a FABRIC subsystem model
+    instances: list[Data]  # one per subsystem instance: a deployer script, a FABRIC run-time configuration
+
+
+def xml_text(text: str) -> str:
+    """Text safe in an XML attribute value (double quotes) and element content."""
+    clean = "".join(c for c in " ".join(text.split()) if c >= " ")
+    return escape(clean, {'"': "&quot;"})
+
+
+def _elements(name: str, replicated: bool, count: int) -> list[tuple[str, str]]:
+    """(port name, index suffix) of every element of a (possibly replicated) member."""
+    if not replicated:
+        return [(name, "")]
+    return [(f"{name}_{k + 1}", f"[{k}]") for k in range(count)]
+
+
+class _Ports:
+    """The port names of one component: distinct, or generation stops (rule D004)."""
+
+    def __init__(self, owner: str) -> None:
+        self.owner = owner
+        self.taken: set[str] = set()
+
+    def take(self, name: str) -> str:
+        if name in self.taken:
+            raise GenError(f"D004 {self.owner}: two ports are named {name}")
+        self.taken.add(name)
+        return name
+
+
+def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTarget,
+               target: OrocosTarget) -> OrocosView:
+    system = model.system
+    if system is None:
+        raise GenError("the model has no EARL System to generate")
+    model_ns = cpp.system["ns"]
+    msg_names = {m["key"]: m["name"] for m in msgs.messages}
+
+    def ros_message(datatype: str, where: str) -> str:
+        if datatype in msg_names:
+            return f"{msgs.package}::{msg_names[datatype]}"
+        ros = ros_type(model, datatype, msg_names, msg_target, where)
+        wrapper = target.std_msgs.get(ros)
+        if wrapper is None:
+            raise GenError(f"{where}: no std_msgs message for the ROS type {ros}")
+        return f"std_msgs::{wrapper}"
+
+    first: dict[str, Subsystem] = {}
+    for sub in model.subsystems:
+        first.setdefault(sub.block_id, sub)
+    definitions: list[Data] = []
+    by_block: dict[str, Data] = {}
+    for definition in cpp.subsystems:
+        entry = _definition(model, first[definition["block_id"]], definition, model_ns, ros_message, target)
+        definitions.append(entry)
+        by_block[definition["block_id"]] = entry
+
+    instances: list[Data] = []
+    components: dict[str, str] = {}  # component name -> what it is, for D004
+    port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (master component, port)
+
+    def component(name: str, what: str) -> str:
+        if name.lower() in components:
+            raise GenError(f"D004 {what}: the component name {name} is also that of {components[name.lower()]}")
+        components[name.lower()] = what
+        return name
+
+    for agent_view, agent in zip(cpp.agents, system.agents):
+        for instance_view, sub in zip(agent_view["instances"], agent.subsystems):
+            entry = by_block[sub.block_id]
+            master = component(f"{agent_view['ns']}_{instance_view['member']}", sub.path)
+            pfs = [_pf_instance(master, pf, component(f"{master}_{pf['role']}", f"{sub.path} pf {pf['role']}"))
+                   for pf in entry["pfs"]]
+            ports = {(b["template"], b["index"]): b for b in entry["buffers"]}
+            for buf in sub.buffers:
+                port_of[buf.path] = (master, ports[(buf.template, buf.index)]["port"])
+            instance = {"name": master, "path": xml_text(sub.path), "comment": cpp_comment(sub.path),
+                        "type": entry["master_type"],
+                        "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
+                        "period": target.period, "priority": target.priority, "scheduler": target.scheduler,
+                        "policy": target.policy,
+                        "definition_file": f"../{entry['library']}/subsystem.xml"}
+            instances.append(instance)
+    links: list[Data] = []
+    for link in model.links:
+        if not link.source or not link.target or link.source not in port_of or link.target not in port_of:
+            raise GenError(f"{link.path}: a link goes from an Output Buffer to an Input Buffer (rule C001)")
+        source, destination = port_of[link.source], port_of[link.target]
+        links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
+                      "to": f"{destination[0]}.{destination[1]}"})
+    for instance in instances:
+        master = instance["name"]
+        instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
+        for buf in instance["buffers"]:
+            own = f"{master}.{buf['port']}"
+            ends = [link["from"] if buf["direction"] == "in" else link["to"] for link in links
+                    if own == (link["to"] if buf["direction"] == "in" else link["from"])]
+            instance["io"] += [{"alias": buf["port"], "name": end} for end in ends or [own]]
+    libraries = [{"name": d["library"], "source": d["source"],
+                  "types": [d["master_type"]] + [p["type"] for p in d["pfs"]]} for d in definitions]
+    project = field_name(model.name or system.name or "model") + target.package_suffix
+    system_data = {"model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
+                   "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"]}
+    return OrocosView(system=system_data, definitions=definitions, instances=instances)
+
+
+def _pf_instance(master: str, pf: Data, name: str) -> Data:
+    """A pf component of a master component: its name, type and connections to the master."""
+    connections = []
+    for port in pf["ports"]:
+        master_end, pf_end = f"{master}.{port['master_port']}", f"{name}.{port['port']}"
+        connections.append({"from": master_end, "to": pf_end} if port["to_pf"] else {"from": pf_end, "to": master_end})
+    return {"name": name, "role": pf["role"], "type": pf["type"], "connections": connections}
+
+
+def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: str, ros_message: Any,
+                target: OrocosTarget) -> Data:
+    """A subsystem definition: its master component, its pf components, its FABRIC model."""
+    ns = definition["ns"]
+    where = sub.path
+    master_ports = _Ports(f"{where} master component")
+    ports = {p["member"]: p for p in definition["ports"]}
+    template_of = {definition["port_members"][b.template]: b for b in sub.buffers}
+    kinds = _sides(model, sub)
+    buffers: list[Data] = []
+    for member, port in ports.items():
+        buf = template_of[member]
+        for k, (name, at) in enumerate(_elements(member, port["replicated"], port["count"])):
+            index = k + 1 if port["replicated"] else 0
+            instance_path = next(b.path for b in sub.buffers if b.template == buf.template and b.index == index)
+            buffers.append({"port": master_ports.take(name), "type": port["type"], "access": f"data.{member}{at}",
+                            "direction": buf.direction, "template": buf.template, "index": index,
+                            "ros": xml_text(ros_message(buf.datatype, buf.path)),
+                            "side": kinds.get(instance_path, "top"), "member": member})
+
+    functions = definition["functions"]
+    pfs: list[Data] = []
+    run_index: dict[str, int] = {}
+    for n, (pf, model_pf) in enumerate(zip(functions, sub.functions)):
+        run_index[pf["run"]] = n
+        pf_ports = _Ports(f"{where} pf {pf['cls']}")
+        pf_entries: list[Data] = []
+        for accessor in pf["accessors"]:
+            kind = accessor["kind"]
+            if kind == "m":
+                kind = "mo" if accessor["mutable"] else "mi"
+            for name, at in _elements(accessor["name"], accessor["replicated"], accessor["count"]):
+                port = pf_ports.take(name)
+                access = f"{accessor['member']}{at}"
+                pf_entries.append({
+                    "port": port, "master_port": master_ports.take(f"{pf['cls']}_{port}"), "kind": kind,
+                    "type": accessor["type"], "to_pf": kind in ("ib", "mi"),
+                    "master_access": f"data.{access}", "pf_access": f"data_.{access}",
+                })
+        pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
+                    "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
+                    "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",
+                    "model": cpp_comment(model_pf.name)})
+
+    operations = _Ports(f"{where} master component operations")
+    predicates = [{"name": operations.take(p["method"]), "method": p["method"], "text": xml_text(pp.body or pp.name),
+                   "model": xml_text(pp.name)} for p, pp in zip(definition["predicates"], sub.predicates)]
+    conditions: list[Data] = []
+    behaviours: list[Data] = []
+    pf_role = {pf["run"]: pf["role"] for pf in pfs}
+    for row, bb in zip(definition["behaviours"], sub.behaviours):
+        conditions += [{"name": operations.take(row["tc"]), "method": row["tc"]},
+                       {"name": operations.take(row["ec"]), "method": row["ec"]}]
+        group = [name for r in row["receives"] for name, _ in _elements(r["member"], r["replicated"],
+                                                                         ports[r["member"]]["count"])]
+        behaviours.append({
+            "name": xml_text(cpp_identifier(bb.name)), "model": xml_text(bb.name),
+            "stop_cond": xml_text(bb.tc.text if bb.tc else "FALSE"), "err_cond": xml_text(bb.ec.text if bb.ec else "FALSE"),
+            "stop_operation": row["tc"], "err_operation": row["ec"], "group": group,
+            "running": [{"name": pf_role[run], "stage": n} for n, stage in enumerate(row["stages"], start=1)
+                        for run in stage["runs"]],
+        })
+    fsm = sub.fsm
+    assert fsm is not None  # the C++ view refuses an FSM without an initial state
+    transitions = sorted(fsm.transitions, key=lambda t: t.order)
+    bb_of = {bb.name: cpp_identifier(bb.name) for bb in sub.behaviours}
+    states: list[Data] = []
+    for state in fsm.states:
+        leaving = [(t, row) for t, row in zip(transitions, definition["transitions"]) if t.source == state.name]
+        leaving.sort(key=lambda pair: -pair[0].priority)  # stable: model order breaks ties
+        states.append({"name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]),
+                       "next": [{"name": xml_text(t.target), "init_cond": xml_text(t.condition.text if t.condition else "TRUE"),
+                                 "priority": t.priority, "operation": row["guard"], "model": xml_text(t.name)}
+                                for t, row in leaving]})
+    for row in definition["transitions"]:
+        conditions.append({"name": operations.take(row["guard"]), "method": row["guard"]})
+
+    library = f"{definition['agent']}_{definition['sub']}"
+    fabric = {"path": xml_text(sub.path), "buffers": buffers, "behaviours": behaviours, "states": states,
+              "initial": xml_text(fsm.initial or ""), "predicates": predicates, "period": target.period,
+              "block": xml_text(sub.block)}
+    return {
+        "ns": ns, "agent": definition["agent"], "sub": definition["sub"], "path": xml_text(sub.path),
+        "definition": cpp_comment(sub.block),
+        "comment": definition["comment"], "model_ns": model_ns,
+        "include": f"{model_ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp",
+        "data_include": definition["data_include"], "master_type": f"{ns}::orocos::Master",
+        "library": library, "source": f"orocos/{definition['agent']}/{definition['sub']}/components.cpp",
+        "buffers": buffers, "pfs": pfs, "predicates": predicates, "conditions": conditions,
+        "fabric": fabric, "model": definition["comment"],
+    }
+
+
+def _sides(model: EarlModel, sub: Subsystem) -> dict[str, str]:
+    """FABRIC's side of every linked buffer instance: ``bottom`` towards the hardware (a peer
+    further from the control subsystem), ``top`` otherwise (and between agents)."""
+    rank = _RANK.get(sub.kind, 0)
+    sides: dict[str, str] = {}
+    for link in model.links:
+        for own, other in ((link.source, link.target), (link.target, link.source)):
+            if not own or not other or model.subsystem_of(own) is not sub:
+                continue
+            peer = model.subsystem_of(other)
+            if peer is not None and peer.agent == sub.agent and _RANK.get(peer.kind, 0) > rank:
+                sides[own] = "bottom"
+            else:
+                sides.setdefault(own, "top")
+    return sides

@@ -1,0 +1,303 @@
+"""The Orocos RTT target: the FABRIC files validate against metamodel/fabric/*.xsd (and a
+broken one does not), the deployer scripts name only components, ports and component types
+that the generated C++ defines, the run-time configurations agree with the scripts, output is
+deterministic and user files are never overwritten, and (when an RTT installation is found)
+the generated project compiles and links against it."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+import pytest
+
+from earl_m2t.api import load
+from earl_m2t.gen import GenError, generate, render
+
+xmlschema = pytest.importorskip("xmlschema", reason="xmlschema (test extra) validates the FABRIC files")
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+USER = SAMPLE.parent / "user"
+SCHEMAS = ROOT / "metamodel" / "fabric"
+# the operations of OCL's DeploymentComponent that the generated scripts may call
+DEPLOYER_OPERATIONS = {"import", "loadComponent", "setActivity", "setMasterSlaveActivity", "connect",
+                       "configureComponent", "startComponent", "runScript"}
+CALL = re.compile(r"^(\w+)\((.*)\)$")
+ARGUMENT = re.compile(r'"([^"]*)"|([\w.]+)')
+
+
+def earl(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "earl_m2t", *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=120)
+
+
+@pytest.fixture(scope="module")
+def out(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """gen's output for the sample, with the sample's user code copied in first."""
+    folder = tmp_path_factory.mktemp("orocos")
+    shutil.copytree(USER, folder / "user")
+    result = earl("gen", str(SAMPLE), "--target", "orocos", "-o", str(folder))
+    assert result.returncode == 0, result.stderr
+    return folder
+
+
+# ---------------------------------------------------------------- what the generated C++ defines
+
+
+class Component:
+    def __init__(self) -> None:
+        self.inputs: set[str] = set()
+        self.outputs: set[str] = set()
+        self.services: dict[str, set[str]] = {}
+
+
+def components_of(source: str) -> dict[str, Component]:
+    """Component type (as ORO_LIST_COMPONENT_TYPE registers it) -> its ports and operations,
+    read from the text of a generated components.cpp."""
+    namespace = re.search(r"^namespace ([\w:]+) \{$", source, re.M)
+    assert namespace is not None
+    listed = re.findall(r"^ORO_LIST_COMPONENT_TYPE\(([\w:]+)\)$", source, re.M)
+    assert re.search(r"^ORO_CREATE_COMPONENT_LIBRARY\(\)$", source, re.M)
+    found: dict[str, Component] = {}
+    for block in re.split(r"^class (?=\w+ final : public RTT::TaskContext)", source, flags=re.M)[1:]:
+        name = block.split()[0]
+        component = Component()
+        members = {m: kind for kind, m in re.findall(r"^  RTT::(Input|Output)Port<.*> (\w+);$", block, re.M)}
+        for port, member in re.findall(r'addPort\("(\w+)", (\w+)\)', block):
+            (component.inputs if members[member] == "Input" else component.outputs).add(port)
+        for service, operation in re.findall(r'(\w+)->addOperation\("(\w+)"', block):
+            component.services.setdefault(service, set()).add(operation)
+        found[f"{namespace.group(1)}::{name}"] = component
+    assert sorted(found) == sorted(listed), "every TaskContext is listed once, and only those"
+    return found
+
+
+@pytest.fixture(scope="module")
+def types(out: Path) -> dict[str, Component]:
+    found: dict[str, Component] = {}
+    for source in sorted(out.glob("orocos/*/*/components.cpp")):
+        found.update(components_of(source.read_text(encoding="utf-8")))
+    return found
+
+
+def calls(script: Path) -> list[tuple[str, list[str]]]:
+    result = []
+    for line in script.read_text(encoding="utf-8").splitlines():
+        if not line or line.startswith("//") or line.startswith("var ConnPolicy "):
+            continue
+        match = CALL.match(line)
+        assert match, f"{script.name}: {line}"
+        arguments = [m.group(1) if m.group(1) is not None else m.group(2) for m in ARGUMENT.finditer(match.group(2))]
+        result.append((match.group(1), arguments))
+    return result
+
+
+def deployed(out: Path) -> tuple[dict[str, str], list[tuple[str, str]], list[str]]:
+    """(component -> type, connections, operations in order) of deploy/system.ops and the
+    scripts it runs, as the deployer would execute them."""
+    loaded: dict[str, str] = {}
+    connections: list[tuple[str, str]] = []
+    order: list[str] = []
+
+    def execute(name: str) -> None:
+        for operation, arguments in calls(out / "deploy" / name):
+            order.append(operation)
+            assert operation in DEPLOYER_OPERATIONS, operation
+            if operation == "runScript":
+                execute(arguments[0])
+            elif operation == "loadComponent":
+                assert arguments[0] not in loaded
+                loaded[arguments[0]] = arguments[1]
+            elif operation == "connect":
+                connections.append((arguments[0], arguments[1]))
+            elif operation == "setActivity":
+                assert arguments[0] in loaded and arguments[3] == "ORO_SCHED_OTHER"
+            elif operation == "setMasterSlaveActivity":
+                assert arguments[0] in loaded and arguments[1] in loaded
+            elif operation in ("configureComponent", "startComponent"):
+                assert arguments[0] in loaded, arguments
+
+    execute("system.ops")
+    return loaded, connections, order
+
+
+# ---------------------------------------------------------------- tests
+
+
+def test_gen_writes_a_library_per_definition_and_scripts_and_fabric_files_per_instance(out: Path) -> None:
+    model = load(SAMPLE).model
+    assert len(list(out.glob("orocos/*/*/components.cpp"))) == len(list(model.definitions())) == 7
+    assert len(list(out.glob("fabric/*/subsystem.xml"))) == 7
+    assert len(list(out.glob("fabric/*/configuration.xml"))) == len(model.subsystems) == 17
+    assert len(list(out.glob("deploy/*.ops"))) == 17 + 1
+    assert (out / "CMakeLists.txt").is_file() and (out / "runtime" / "earl" / "rtt" / "fsm.hpp").is_file()
+    assert (out / "generated" / "include" / "PickAndPlace" / "manip_a" / "cs" / "subsystem.hpp").is_file()
+
+
+def test_every_fabric_file_validates_against_its_schema(out: Path) -> None:
+    subsystem = xmlschema.XMLSchema(SCHEMAS / "subsystem.xsd")
+    configuration = xmlschema.XMLSchema(SCHEMAS / "configuration.xsd")
+    for path in sorted(out.glob("fabric/*/subsystem.xml")):
+        subsystem.validate(path)
+    for path in sorted(out.glob("fabric/*/configuration.xml")):
+        configuration.validate(path)
+
+
+@pytest.mark.parametrize(("schema", "file", "old", "new"), [
+    ("subsystem", "manip_a_cs/subsystem.xml", '<next_state name="idle"', '<next_state name="resting"'),
+    ("subsystem", "manip_a_cs/subsystem.xml", '<states initial="idle">', '<states initial="start">'),
+    ("subsystem", "manip_a_cs/subsystem.xml", '<optional name="manipulatorCommand_ib"/>',
+     '<optional name="manipulatorState_ob"/>'),
+    ("subsystem", "manip_a_cs/subsystem.xml", 'side="bottom"', 'side="left"'),
+    ("subsystem", "manip_a_cs/subsystem.xml", "pick_and_place_msgs::ManipulatorCommand", "ManipulatorCommand"),
+    ("subsystem", "manip_a_cs/subsystem.xml", '<behavior name="jointMove_bb"/>', '<behavior name="moving_bb"/>'),
+    ("configuration", "manip_a_cs/configuration.xml", 'name="manip_a_cs_jointMove_pf"', 'name="manip_a_cs"'),
+    ("configuration", "manip_a_cs/configuration.xml", 'master="manip_a_cs"', 'master="manip_a_cs2"'),
+    ("configuration", "manip_a_cs/configuration.xml", '<conn_policy type="data"/>', '<conn_policy type="latest"/>'),
+])
+def test_a_broken_fabric_file_fails_validation(out: Path, tmp_path: Path, schema: str, file: str, old: str,
+                                               new: str) -> None:
+    text = (out / "fabric" / file).read_text(encoding="utf-8")
+    assert old in text
+    broken = tmp_path / "broken.xml"
+    broken.write_text(text.replace(old, new, 1), encoding="utf-8")
+    validator = xmlschema.XMLSchema(SCHEMAS / f"{schema}.xsd")
+    assert validator.is_valid(out / "fabric" / file)
+    assert not validator.is_valid(broken)
+
+
+def test_the_scripts_name_only_component_types_components_and_ports_of_the_generated_code(
+        out: Path, types: dict[str, Component]) -> None:
+    loaded, connections, order = deployed(out)
+    assert set(loaded.values()) == set(types), "every generated component type is deployed"
+    for source, target in connections:
+        source_component, _, source_port = source.partition(".")
+        target_component, _, target_port = target.partition(".")
+        assert source_port in types[loaded[source_component]].outputs, source
+        assert target_port in types[loaded[target_component]].inputs, target
+    assert len(set(connections)) == len(connections)
+    # every input port of every component is connected (each buffer of the sample is linked)
+    for name, type_name in loaded.items():
+        for port in types[type_name].inputs:
+            assert any(t == f"{name}.{port}" for _, t in connections), f"{name}.{port} is not connected"
+    # start after every connection, the pf components before their masters
+    assert order.index("startComponent") > max(i for i, op in enumerate(order) if op == "connect")
+
+
+def test_the_links_of_the_model_are_exactly_the_connections_of_system_ops(out: Path) -> None:
+    links = [c for c in calls(out / "deploy" / "system.ops") if c[0] == "connect"]
+    model = load(SAMPLE).model
+    assert len(links) == len(model.links) == 32
+    ends = {(a[0], a[1]) for _, a in links}
+    assert ("task_a_cs.manipulatorCommand_ob", "manip_a_cs.manipulatorCommand_ib") in ends
+    assert ("manip_a_motorController3_ve.motorControllerState_ob", "manip_a_cs.motorControllerStateK_ib_3") in ends
+
+
+def test_the_run_time_configurations_are_what_the_scripts_deploy(out: Path) -> None:
+    loaded, connections, _ = deployed(out)
+    components: dict[str, str] = {}
+    configured: list[tuple[str, str]] = []
+    for path in sorted(out.glob("fabric/*/configuration.xml")):
+        root = ElementTree.parse(path).getroot()
+        components.update({c.get("name", ""): c.get("type", "") for c in root.iter("component")})
+        configured += [(c.get("from", ""), c.get("to", "")) for c in root.iter("connection")]
+        packages = {i.get("package") for i in root.iter("import")}
+        assert packages == {"pick_and_place_orocos"}
+    assert components == loaded
+    assert sorted(configured) == sorted(connections)
+
+
+def test_the_subsystem_models_name_the_operations_and_components_that_exist(
+        out: Path, types: dict[str, Component]) -> None:
+    loaded, _, _ = deployed(out)
+    for path in sorted(out.glob("fabric/*/subsystem.xml")):
+        root = ElementTree.parse(path).getroot()
+        master_type = next(t for t in types if t.endswith("::orocos::Master")
+                           and path.parent.name == "_".join(t.split("::")[1:3]))
+        master = types[master_type]
+        for element in root.iter():
+            for attribute in ("operation", "stop_operation", "err_operation"):
+                if element.get(attribute):
+                    service, _, operation = element.get(attribute, "").partition(".")
+                    assert operation in master.services[service], (path, element.get(attribute))
+        namespace = master_type.rpartition("::")[0]
+        for running in root.iter("running_component"):
+            assert f"{namespace}::{running.get('name')}" in types
+        inputs = {b.get("alias") for b in root.find("buffers").iter("in")}  # type: ignore[union-attr]
+        outputs = {b.get("alias") for b in root.find("buffers").iter("out")}  # type: ignore[union-attr]
+        assert inputs <= master.inputs and outputs <= master.outputs
+    manip = ElementTree.parse(out / "fabric" / "manip_a_cs" / "subsystem.xml").getroot()
+    joint_move = next(s for s in manip.iter("state") if s.get("name") == "jointMove")
+    # highest priority first: emergencyStop (2), the self-transition (1), idle (0)
+    assert [n.get("name") for n in joint_move.iter("next_state")] == ["emergencyStop", "jointMove", "idle"]
+    assert len(loaded) == 17 + sum(len(list(ElementTree.parse(p).getroot().iter("component"))) - 1
+                                   for p in out.glob("fabric/*/configuration.xml"))
+
+
+def test_regenerating_gives_identical_bytes_and_rewrites_nothing(tmp_path: Path) -> None:
+    model = load(SAMPLE).model
+    first = generate(model, tmp_path / "a", "orocos")
+    assert first.write.written and first.write.created
+    second = generate(model, tmp_path / "a", "orocos")
+    assert second.write.written == () and second.write.created == ()
+    assert render(load(SAMPLE).model, "orocos") == render(model, "orocos")
+
+
+def test_a_user_file_edit_survives_regeneration(tmp_path: Path) -> None:
+    model = load(SAMPLE).model
+    generate(model, tmp_path, "orocos")
+    user = tmp_path / "user" / "manip_a" / "cs" / "jointMove_pf.hpp"
+    edited = user.read_text(encoding="utf-8") + "// mine\n"
+    user.write_text(edited, encoding="utf-8")
+    report = generate(model, tmp_path, "orocos")
+    assert "user/manip_a/cs/jointMove_pf.hpp" in report.write.kept
+    assert user.read_text(encoding="utf-8") == edited
+
+
+def test_colliding_component_names_are_refused_in_one_line(tmp_path: Path) -> None:
+    # the instance grip_a_cs_gripperControl_pf would be named as the pf component of grip/a.cs
+    text = SAMPLE.read_text(encoding="utf-8").replace('name="fingerMotor/re" type=', 'name="cs_gripperControl_pf" type=')
+    model = tmp_path / "model.uml"
+    model.write_text(text, encoding="utf-8")
+    shutil.copy(SAMPLE.parent / "EARL.profile.uml", tmp_path / "EARL.profile.uml")
+    with pytest.raises(GenError, match=r"^D004 grip/a\.cs_gripperControl_pf: the component name "
+                                       r"grip_a_cs_gripperControl_pf is also that of grip/a\.cs pf gripperControl_pf$"):
+        render(load(model).model, "orocos")
+    result = earl("gen", str(model), "--target", "orocos", "-o", str(tmp_path / "out"))
+    assert result.returncode != 0 and len(result.stderr.splitlines()) == 1 and "Traceback" not in result.stderr
+
+
+# ---------------------------------------------------------------- against a real RTT
+
+
+def rtt_prefix() -> str | None:
+    """OROCOS_RTT_PREFIX, else the prefix pkg-config knows for orocos-rtt-gnulinux."""
+    if os.environ.get("OROCOS_RTT_PREFIX"):
+        return os.environ["OROCOS_RTT_PREFIX"]
+    if shutil.which("pkg-config") is None:
+        return None
+    result = subprocess.run(["pkg-config", "--variable=prefix", "orocos-rtt-gnulinux"], capture_output=True,
+                            text=True)
+    return result.stdout.strip() or None if result.returncode == 0 else None
+
+
+@pytest.mark.skipif(rtt_prefix() is None or shutil.which("cmake") is None,
+                    reason="no Orocos RTT installation (set OROCOS_RTT_PREFIX or make pkg-config find "
+                           "orocos-rtt-gnulinux; see docs/orocos-target.md)")
+def test_the_generated_project_compiles_and_links_against_rtt(out: Path) -> None:
+    build = out / "build"
+    prefix = rtt_prefix()
+    for command in (["cmake", "-S", str(out), "-B", str(build), f"-DCMAKE_PREFIX_PATH={prefix}"],
+                    ["cmake", "--build", str(build), "-j", str(os.cpu_count() or 2)]):
+        result = subprocess.run(command, capture_output=True, text=True, timeout=900)
+        assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
+        assert "warning:" not in result.stdout + result.stderr
+    libraries = sorted(p.name for p in build.rglob("lib*-gnulinux.so"))
+    assert libraries == sorted(f"lib{p.parent.parent.name}_{p.parent.name}-gnulinux.so"
+                               for p in out.glob("orocos/*/*/components.cpp"))
