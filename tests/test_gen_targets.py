@@ -8,7 +8,7 @@ from pathlib import Path
 from earl_m2t import resources
 from earl_m2t.cli.app import build_parser
 from earl_m2t.gen.generate import TARGETS
-from earl_m2t.gen.target_names import gen_targets
+from earl_m2t.cli.gen_targets import gen_targets
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
-from earl_m2t.gen.target_names import gen_targets
+from earl_m2t.cli.gen_targets import gen_targets
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
