@@ -347,13 +347,23 @@ def test_an_empty_folder_is_reported_and_nothing_checked(tmp_path: Path) -> None
     assert result.stderr == "empty: warning: no model files found\n"
 
 
+def test_a_folder_is_searched_for_sysml_text_too(tmp_path: Path) -> None:
+    (tmp_path / ".git").mkdir()
+    (tmp_path / "models").mkdir()
+    shutil.copy(ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml", tmp_path / "models" / "arm.sysml")
+    (tmp_path / "models" / "notes.txt").write_text("not a model\n", encoding="utf-8")
+    result = earl("models", "--format", "json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["files"] == ["models/arm.sysml"]
+
+
 def test_the_pre_commit_hook_matches_model_files_only() -> None:
     text = (ROOT / ".pre-commit-hooks.yaml").read_text(encoding="utf-8")
     assert "id: earl-m2t-check" in text and "entry: earl-m2t check" in text
     assert "language: python" in text and "pass_filenames: true" in text
     (files,) = re.findall(r"^\s*files: '(.*)'$", text, re.MULTILINE)
     pattern = re.compile(files)
-    for name in ("models/arm.uml", "a/b.xmi", "Robot.mdzip", "models/Arm.UML"):
+    for name in ("models/arm.uml", "a/b.xmi", "Robot.mdzip", "models/Arm.UML", "models/arm.sysml"):
         assert pattern.search(name), name
     for name in ("models/arm.notation", "models/arm.di", "profiles/earl.profile.uml", "README.md", "pom.xml"):
         assert not pattern.search(name), name

@@ -2,7 +2,8 @@
 
 A file named on the command line is always checked. A directory is searched recursively, in
 sorted order, for ``*.uml``, ``*.xmi``, ``*.mdzip`` and ``*.xml`` files that are XMI (an
-Enterprise Architect export; other XML is passed over quietly). Profiles (``*.profile.uml``),
+Enterprise Architect export; other XML is passed over quietly), and for SysML v2 text
+(``*.sysml``). Profiles (``*.profile.uml``),
 Papyrus' diagram files (``.notation``, ``.di``) and hidden folders (``.git``, ``.venv``) are
 skipped.
 """
@@ -11,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-MODEL_SUFFIXES = (".uml", ".xmi", ".mdzip", ".xml")
+MODEL_SUFFIXES = (".uml", ".xmi", ".mdzip", ".xml", ".sysml")
 _XMI_MARKS = (b"omg.org/spec/XMI", b"schema.omg.org/spec/XMI", b"xmi:version", b"xmi.version")
 
 

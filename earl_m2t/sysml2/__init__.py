@@ -14,6 +14,7 @@ from earl_m2t.sysml2.parser import (
     rule,
     simple_name,
     unquote_name,
+    unwrap,
 )
 
 __all__ = [
@@ -30,4 +31,5 @@ __all__ = [
     "rule",
     "simple_name",
     "unquote_name",
+    "unwrap",
 ]

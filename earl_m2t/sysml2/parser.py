@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from arpeggio import StrMatch
-from textx import get_location, metamodel_from_file
+from textx import get_location, metamodel_from_file, metamodel_from_str
 from textx.exceptions import TextXError, TextXSyntaxError
 
 from earl_m2t.diagnostics import SourceTextError
@@ -35,9 +35,13 @@ __all__ = [
     "literal_value",
     "members",
     "rule",
+    "unwrap",
 ]
 
 GRAMMAR = ("grammar", "sysml2.tx")
+MODEL_GRAMMAR = ("grammar", "sysml2-model.tx")
+# The rule Element of a grammar file: from its first line to the line holding only ';'.
+_ELEMENT_RULE = re.compile(r"^Element:\n.*?^;\n", re.MULTILINE | re.DOTALL)
 
 # One segment of a qualified name: a quoted name or a basic name.
 _SEGMENT = re.compile(r"'(?:[^'\\]|\\.)*'|[A-Za-z_][A-Za-z_0-9]*")
@@ -55,10 +59,26 @@ def _metamodel() -> Any:
     return metamodel_from_file(str(metamodel_path(*GRAMMAR)), autokwd=True)
 
 
-def parse_text(text: str, file_name: str = "<text>") -> Any:
-    """Parse SysML v2 text and return the root namespace (rule ``RootNamespace``)."""
+@cache
+def _model_metamodel() -> Any:
+    """The model grammar: sysml2.tx with the rule Element of sysml2-model.tx."""
+    base = metamodel_path(*GRAMMAR).read_text(encoding="utf-8")
+    wider = _ELEMENT_RULE.search(metamodel_path(*MODEL_GRAMMAR).read_text(encoding="utf-8"))
+    if wider is None or _ELEMENT_RULE.search(base) is None:
+        raise RuntimeError("the SysML v2 grammars have no rule Element")
+    text = _ELEMENT_RULE.sub(lambda _: wider.group(0), base, count=1)
+    return metamodel_from_str(text, autokwd=True)
+
+
+def parse_text(text: str, file_name: str = "<text>", model: bool = False) -> Any:
+    """Parse SysML v2 text and return the root namespace (rule ``RootNamespace``).
+
+    ``model`` reads it with the model grammar, where constructs outside the subset are
+    ``OutsideSubset`` nodes rather than syntax errors.
+    """
+    metamodel = _model_metamodel() if model else _metamodel()
     try:
-        return _metamodel().model_from_str(text, file_name=file_name)
+        return metamodel.model_from_str(text, file_name=file_name)
     except TextXSyntaxError as error:
         raise Sysml2SyntaxError(
             file_name, error.line or 0, error.col or 0, _syntax_message(error, text)
@@ -69,13 +89,13 @@ def parse_text(text: str, file_name: str = "<text>") -> Any:
         ) from None
 
 
-def parse_file(path: Path) -> Any:
+def parse_file(path: Path, model: bool = False) -> Any:
     """Parse a SysML v2 file (UTF-8) and return its root namespace."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise Sysml2SyntaxError(str(path), 0, 0, f"cannot read the file: {error}") from None
-    return parse_text(text, str(path))
+    return parse_text(text, str(path), model)
 
 
 def _syntax_message(error: TextXSyntaxError, text: str) -> str:
@@ -202,6 +222,7 @@ def literal_value(expression: Any) -> object:
     A feature reference gives its qualified name as a string (e.g. ``AgentType::C``);
     ``-``/``+`` apply to numbers.
     """
+    expression = unwrap(expression)
     kind = rule(expression)
     if kind == "LiteralInteger":
         return int(expression.value)
@@ -213,7 +234,7 @@ def literal_value(expression: Any) -> object:
         return expression.value == "true"
     if kind == "LiteralNull":
         return None
-    if kind == "FeatureReference":
+    if kind == "FeatureReference" and not expression.chain:
         return "::".join(name_segments(expression.name))
     if kind == "UnaryExpression":
         operand = literal_value(expression.operand)
@@ -224,6 +245,21 @@ def literal_value(expression: Any) -> object:
         if expression.operator == "not" and isinstance(operand, bool):
             return not operand
     raise ValueError(f"not a literal value: {rule(expression)}")
+
+
+def unwrap(expression: Any) -> Any:
+    """The expression a single-operand level stands for: ``or``/``and`` chains of one operand,
+    comparisons without a right side and parentheses are left out."""
+    while True:
+        kind = rule(expression)
+        if kind in ("OrExpression", "AndExpression") and not expression.rest:
+            expression = expression.first
+        elif kind == "ComparisonExpression" and expression.right is None:
+            expression = expression.left
+        elif kind == "ParenthesizedExpression":
+            expression = expression.inner
+        else:
+            return expression
 
 
 # ---------------------------------------------------------------- walking

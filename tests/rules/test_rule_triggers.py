@@ -946,6 +946,14 @@ def suppression_without_reason(s: Sample) -> Expect:
     return Expect(s.id(comment), "no reason")
 
 
+def construct_outside_the_subset(text: str) -> tuple[str, str]:
+    """R007: the SysML v2 sample's control subsystem of task/a also performs an action, a
+    construct outside the subset earl-m2t reads."""
+    anchor = "        part def TaskControl :> ControlSubsystem {\n"
+    assert anchor in text
+    return text.replace(anchor, anchor + "            perform planTask;\n", 1), "perform"
+
+
 # ---- the table --------------------------------------------------------------------------
 
 Mutation = Callable[[Sample], Expect]
@@ -1012,6 +1020,12 @@ VARIANTS: dict[str, Mutation] = {
     "R006": suppression_without_reason,
 }
 
+# Rows whose broken model is the SysML v2 text of the sample (samples/pick_and_place/pick_and_place.sysml):
+# the mutation takes the text and gives the broken text and the construct the finding names.
+SYSML_VARIANTS: dict[str, Callable[[str], tuple[str, str]]] = {
+    "R007": construct_outside_the_subset,
+}
+
 # Rows that expose a defect of earl-m2t rather than of the variant.
 KNOWN_BUGS: dict[str, str] = {
 }
@@ -1046,13 +1060,13 @@ def _line_of(path: Path, xmi_id: str) -> int:
 def test_every_catalogue_rule_has_a_variant() -> None:
     listed = tomllib.loads((ROOT / "metamodel" / "rules" / "catalogue.toml").read_text(encoding="utf-8"))
     codes = set(listed["rules"]) | set(catalogue())
-    covered = {_code(v) for v in VARIANTS}
+    covered = {_code(v) for v in VARIANTS} | {_code(v) for v in SYSML_VARIANTS}
     assert codes - covered == set(), "rules without a broken variant"
     assert covered - codes == set(), "variants of rules that are not in the catalogue"
 
 
 def test_every_mutation_says_what_it_breaks() -> None:
-    for variant, mutation in VARIANTS.items():
+    for variant, mutation in {**VARIANTS, **SYSML_VARIANTS}.items():
         doc = (mutation.__doc__ or "").strip()
         assert doc.startswith(_code(variant)), f"{mutation.__name__}: docstring must start with {_code(variant)}"
 
@@ -1086,3 +1100,16 @@ def test_variant_triggers_exactly_its_rule(variant: str, mutation: Mutation, sam
     assert any(name in d.message for d in pointing), (
         f"{variant}: no finding at the element names {name!r}:\n{_describe(pointing)}"
     )
+
+
+@pytest.mark.parametrize("variant", list(SYSML_VARIANTS))
+def test_sysml_variant_triggers_exactly_its_rule(variant: str, tmp_path: Path) -> None:
+    sample = (ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml").read_text(encoding="utf-8")
+    broken, construct = SYSML_VARIANTS[variant](sample)
+    path = tmp_path / "variant.sysml"
+    path.write_text(broken, encoding="utf-8")
+    line = next(n for n, text in enumerate(broken.splitlines(), 1) if text.strip().startswith(construct))
+    findings = check(path)
+    assert {d.code for d in findings} == {_code(variant)}, _describe(findings)
+    assert [(d.location.line, d.location.column) for d in findings] == [(line, 13)]
+    assert f"'{construct}'" in findings[0].message

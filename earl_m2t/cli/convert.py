@@ -1,0 +1,54 @@
+"""``earl-m2t convert MODEL --to sysml [-o FILE]``: a model (any supported input) as SysML v2 text.
+
+Writes to stdout, or to FILE atomically (through :mod:`earl_m2t.output`). A model that cannot
+be read, or a file that cannot be written, is one line on stderr and exit 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from earl_m2t.cli.dialect_option import add_dialect_option
+
+FORMATS = ("sysml",)
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    parser = commands.add_parser(
+        "convert",
+        help="write the EARL content of a model as SysML v2 text",
+        description="Convert a model (SysML v1 XMI of any supported dialect, or SysML v2 text) to SysML v2 text.",
+    )
+    parser.add_argument("model", metavar="MODEL")
+    parser.add_argument("--to", required=True, choices=FORMATS, help="sysml: SysML v2 textual notation")
+    parser.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    add_dialect_option(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from earl_m2t.api import load
+    from earl_m2t.convert import to_sysml
+    from earl_m2t.diagnostics import ModelReadError
+    from earl_m2t.output import OutputError, write_files
+
+    try:
+        loaded = load(args.model, args.dialect)
+    except ModelReadError as exc:
+        print(exc.one_line(), file=sys.stderr)
+        return 2
+    text = to_sysml(loaded.model)
+    if not args.output:
+        sys.stdout.write(text)
+        return 0
+    target = Path(args.output)
+    try:
+        report = write_files(target.parent, {target.name: text.encode("utf-8")})
+    except OutputError as exc:
+        print(f"earl-m2t: {exc}", file=sys.stderr)
+        return 2
+    for line in report.lines():
+        print(line)
+    return 0

@@ -1,0 +1,68 @@
+"""Names and conditions as SysML v2 text: quoting, and predicates as SysML v2 expressions."""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+
+from earl_m2t.sysml2.conditions import NotACondition, predicate_text
+from earl_m2t.sysml2.parser import Sysml2SyntaxError, members, parse_text, rule, unwrap
+from earl_m2t.sysml2.subset import subset
+
+_BASIC = re.compile(r"[A-Za-z_][A-Za-z_0-9]*\Z")
+_TOKEN = re.compile(
+    r"\s+|∧|∨|¬|&&|\|\||==|!=|<=|>=|[<>!(),]|[0-9]+(?:\.[0-9]+)?|[A-Za-z_][A-Za-z_0-9]*(?:/[A-Za-z_][A-Za-z_0-9]*)?|."
+)
+_WORDS = {"∧": "and", "&&": "and", "and": "and", "∨": "or", "||": "or", "or": "or",
+          "¬": "not ", "!": "not ", "not": "not ", "TRUE": "true", "FALSE": "false"}
+
+
+def quoted(name: str) -> str:
+    """A name as SysML v2 writes it: basic when it can be, else ``'quoted'``."""
+    if _BASIC.match(name) and name not in subset().keywords:
+        return name
+    return "'" + name.replace("\\", "\\\\").replace("'", "\\'") + "'"
+
+
+def qualified(name: str) -> str:
+    return "::".join(quoted(part) for part in name.split("::"))
+
+
+def expression(text: str) -> str | None:
+    """The SysML v2 expression that reads back as exactly this predicate text, or None."""
+    parts: list[str] = []
+    for token in _TOKEN.findall(text):
+        if token.isspace():
+            continue
+        if token in _WORDS:
+            word = _WORDS[token]
+            parts.append(f" {word} " if word in ("and", "or") else word)
+        elif token in ("==", "!=", "<=", ">=", "<", ">"):
+            parts.append(f" {token} ")
+        elif token == ",":
+            parts.append(", ")
+        elif token[0].isalpha() or token[0] == "_":
+            parts.append(quoted(token) if "/" in token or token in subset().keywords else token)
+        elif token == "." or token in "()" or token[0].isdigit():
+            parts.append(token)
+        else:
+            return None
+    candidate = "".join(parts).strip()
+    return candidate if candidate and reads_as(candidate) == text else None
+
+
+@cache
+def reads_as(candidate: str) -> str | None:
+    """The predicate text the reader makes of an expression, None when it is none."""
+    try:
+        root = parse_text(f"constraint c {{ {candidate} }}", model=True)
+    except Sysml2SyntaxError:
+        return None
+    (constraint,) = list(members(root))
+    results = [m for m in members(constraint) if rule(m) == "ResultExpression"]
+    if len(results) != 1 or len(list(members(constraint))) != 1:
+        return None
+    try:
+        return predicate_text(unwrap(results[0].expression))
+    except NotACondition:
+        return None

@@ -1,0 +1,77 @@
+"""The behaviours a subsystem's ``part def`` owns: ``action def`` (a partial transition
+function, or a shared basic behaviour ``/bb``), ``calc def`` / ``constraint def`` (a primitive
+predicate) and ``metadata … : Exclusion about …`` (exclusive predicates)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from earl_m2t.sysml2.fsm import Later, activity_step
+from earl_m2t.sysml2.parser import identification, location, members, rule, simple_name
+from earl_m2t.sysml2.scope import Resolved, Scope
+from earl_m2t.sysml2.texts import PREDICATE_LANGUAGE, representation, result_expression
+from earl_m2t.sysml2.uml import ID, Block, UmlWriter
+
+BASIC_BEHAVIOUR = "BasicBehaviour"
+EXCLUSION = "Exclusion"
+
+
+class BehaviourWriter:
+    def __init__(self, uml: UmlWriter, scope: Scope, later: Later) -> None:
+        self.uml = uml
+        self.scope = scope
+        self.later = later
+
+    def action_definition(self, block: Block, node: Any) -> None:
+        name = identification(node)[1] or ""
+        concept = self.scope.concept_of(node)
+        if concept == BASIC_BEHAVIOUR or (not concept and name.endswith("/bb")):
+            activity = self.uml.child(block.element, "ownedBehavior", "Activity", node, name)
+            if concept:
+                self.uml.apply(activity, concept, {}, location(node)[0])
+            block.behaviours[name] = activity.get(ID) or ""
+            self.later.insert(0, activity_step(self.uml, self.scope, block, activity, list(members(node))))
+            return
+        behaviour = self.uml.child(block.element, "ownedBehavior", "OpaqueBehavior", node, name)
+        if concept:
+            self.uml.apply(behaviour, concept, {}, location(node)[0])
+        block.behaviours[name] = behaviour.get(ID) or ""
+        for member in members(node):
+            if rule(member) == "Usage" and member.direction:
+                parameter = self.uml.child(behaviour, "ownedParameter", "Parameter", member,
+                                           identification(member)[1] or "")
+                parameter.set("direction", member.direction)
+                self.uml.set_type(parameter, self.scope.typing(member))
+        written = representation(node)
+        if written is not None:
+            self.uml.body(behaviour, *written)
+
+    def predicate(self, block: Block, node: Any) -> None:
+        name = identification(node)[1] or ""
+        behaviour = self.uml.child(block.element, "ownedBehavior", "FunctionBehavior", node, name)
+        concept = self.scope.concept_of(node)
+        if concept:
+            self.uml.apply(behaviour, concept, {}, location(node)[0])
+        block.behaviours[name] = behaviour.get(ID) or ""
+        result = self.uml.child(behaviour, "ownedParameter", "Parameter", None, "return")
+        result.set("direction", "return")
+        self.uml.set_type(result, Resolved(primitive="Boolean"))
+        written = representation(node)
+        if written is not None:
+            self.uml.body(behaviour, *written)
+            return
+        found = result_expression(node)
+        if found is not None:
+            self.uml.body(behaviour, PREDICATE_LANGUAGE, *found)
+
+    def exclusion(self, block: Block, node: Any) -> None:
+        if self.scope.resolve(node.type).concept != EXCLUSION:
+            return
+        constraint = self.uml.child(block.element, "ownedRule", "Constraint", node, identification(node)[1] or "")
+        self.uml.apply(constraint, EXCLUSION, {}, location(node)[0])
+
+        def constrain() -> None:
+            targets = [block.behaviours.get(simple_name(a), "") for a in node.about]
+            constraint.set("constrainedElement", " ".join(t for t in targets if t))
+
+        self.later.append(constrain)

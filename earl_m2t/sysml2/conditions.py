@@ -1,0 +1,52 @@
+"""EARL conditions written as SysML v2 expressions, as text of the predicate language.
+
+A guard ``if 'newJointPos/pp'.fun and not 'emergencyStop/pp'.fun`` reads as the predicate
+``newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun`` (``metamodel/grammar/predicate.tx``): ``or``,
+``and``, ``not`` become ``∨``, ``∧``, ``¬``, ``true``/``false`` ``TRUE``/``FALSE``, quoted
+names lose their quotes; comparisons, invocations (``newData(x)``) and parentheses stay as
+written.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from earl_m2t.sysml2.parser import name_segments, rule
+
+OPERATORS = {"OrExpression": " ∨ ", "AndExpression": " ∧ "}
+UNARY = {"not": "¬", "-": "-", "+": "+", "~": "~"}
+
+
+class NotACondition(ValueError):
+    """An expression that the predicate language cannot say."""
+
+
+def predicate_text(expression: Any) -> str:
+    """The predicate-language text of a SysML v2 expression; raises NotACondition."""
+    kind = rule(expression)
+    if kind in OPERATORS:
+        operands = [expression.first, *expression.rest]
+        return OPERATORS[kind].join(predicate_text(o) for o in operands)
+    if kind == "ComparisonExpression":
+        left = predicate_text(expression.left)
+        if expression.right is None:
+            return left
+        return f"{left} {expression.operator} {predicate_text(expression.right)}"
+    if kind == "UnaryExpression":
+        return UNARY[expression.operator] + predicate_text(expression.operand)
+    if kind == "ParenthesizedExpression":
+        return f"({predicate_text(expression.inner)})"
+    if kind == "InvocationExpression":
+        arguments = ", ".join(predicate_text(a) for a in expression.arguments)
+        return f"{_name(expression.function)}({arguments})"
+    if kind == "FeatureReference":
+        return ".".join([_name(expression.name), *(_name(c) for c in expression.chain)])
+    if kind == "LiteralBoolean":
+        return "TRUE" if expression.value == "true" else "FALSE"
+    if kind in ("LiteralInteger", "LiteralReal"):
+        return str(expression.value)
+    raise NotACondition(f"{kind} is not a condition")
+
+
+def _name(raw: str) -> str:
+    return "::".join(name_segments(raw))

@@ -1,0 +1,101 @@
+"""Names in a SysML v2 model: its own definitions, the EARL concepts of the profile, and the
+primitive types of the library package ScalarValues (``metamodel/grammar/sysml2-subset.toml``)."""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass
+from functools import cache
+from typing import Any
+
+from earl_m2t.profile import Profile
+from earl_m2t.resources import metamodel_path
+from earl_m2t.sysml2.parser import identification, members, name_segments, rule
+from earl_m2t.sysml2.subset import SUBSET_TABLE
+
+PROFILE_PACKAGE = "EARL"
+
+
+@cache
+def scalar_values() -> dict[str, str]:
+    """ScalarValues type name → the primitive type it is (``Natural`` → ``Integer``)."""
+    table = tomllib.loads(metamodel_path(*SUBSET_TABLE).read_text(encoding="utf-8"))
+    return dict(table["scalar-values"])
+
+
+@dataclass(frozen=True, slots=True)
+class Resolved:
+    """What a type or supertype name stands for: a definition of the model (``node``), a
+    concept of the profile, a primitive type, or nothing known (``text`` as written)."""
+
+    node: Any = None
+    concept: str = ""
+    primitive: str = ""
+    text: str = ""
+
+
+class Scope:
+    """Resolves names by their last segment: a definition of the model first (unless the name
+    is qualified by ``EARL``), then a concept of the profile, then a ScalarValues type."""
+
+    def __init__(self, profile: Profile) -> None:
+        self.profile = profile
+        self.definitions: dict[str, list[Any]] = {}
+
+    def index(self, elements: Iterable[Any]) -> None:
+        """Record the definitions of the packages and definitions below ``elements``."""
+        for element in elements:
+            kind = rule(element)
+            if kind == "Definition":
+                name = identification(element)[1]
+                if name:
+                    self.definitions.setdefault(name, []).append(element)
+            if kind in ("Package", "Definition"):
+                self.index(members(element))
+
+    def resolve(self, raw: str) -> Resolved:
+        segments = name_segments(raw)
+        name = segments[-1] if segments else raw
+        local = self.definitions.get(name)
+        if local and not (len(segments) > 1 and segments[0] == PROFILE_PACKAGE):
+            return Resolved(node=local[0])
+        if name in self.profile.concepts:
+            return Resolved(concept=name)
+        if name in scalar_values():
+            return Resolved(primitive=scalar_values()[name])
+        return Resolved(text="::".join(segments) or raw)
+
+    def typing(self, usage: Any) -> Resolved | None:
+        """What the first type of a usage (``x : T``) stands for; None when it has none."""
+        declaration = getattr(usage, "declaration", None)
+        for specialization in getattr(declaration, "specializations", None) or []:
+            if rule(specialization) == "Typing":
+                return self.resolve(specialization.types[0].name)
+        return None
+
+    def concept_of(self, node: Any) -> str:
+        """The EARL concept a definition specialises, directly or through the model's definitions."""
+        for current in self.ancestry(node):
+            for supertype in getattr(current, "supertypes", None) or []:
+                target = self.resolve(supertype)
+                if target.concept:
+                    return target.concept
+        return ""
+
+    def ancestry(self, node: Any) -> list[Any]:
+        """A definition and the model's definitions it specialises, nearest first, each once."""
+        found: list[Any] = []
+        seen: set[int] = set()
+        frontier = [node]
+        while frontier:
+            current = frontier.pop(0)
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            found.append(current)
+            for supertype in getattr(current, "supertypes", None) or []:
+                target = self.resolve(supertype)
+                if target.node is not None:
+                    frontier.append(target.node)
+        return found
