@@ -136,7 +136,7 @@ def test_gen_writes_a_library_per_definition_and_scripts_and_fabric_files_per_in
     assert len(list(out.glob("fabric/*/subsystem.xml"))) == 7
     assert len(list(out.glob("fabric/*/configuration.xml"))) == len(model.subsystems) == 17
     assert len(list(out.glob("deploy/*.ops"))) == 17 + 1
-    assert (out / "CMakeLists.txt").is_file() and (out / "runtime" / "earl" / "rtt" / "fsm.hpp").is_file()
+    assert (out / "CMakeLists.txt").is_file() and (out / "runtime" / "earl" / "subsystem.hpp").is_file()
     assert (out / "generated" / "include" / "PickAndPlace" / "manip_a" / "cs" / "subsystem.hpp").is_file()
 
 

@@ -197,10 +197,6 @@ def _render_orocos(model: EarlModel, templates: Path | None, strict: bool) -> Re
         for template, pattern in sorted(groups["instance"].items()):
             _put(generated, pattern.format(instance=instance["name"]),
                  render_template(env, template, system=system, i=instance))
-    runtime = target_dir("orocos") / spec.get("runtime", "runtime")
-    for path in sorted(runtime.rglob("*")):
-        if path.is_file():
-            _put(generated, "runtime/" + path.relative_to(runtime).as_posix(), path.read_bytes())
     return _beside_user_files(generated, cpp)
 
 

@@ -82,15 +82,6 @@ const TransitionDef<Self>* selectTransition(const Self& self, const TransitionDe
   return best;
 }
 
-/// Runs every stage of a behaviour in order.
-template <class Self>
-void runStages(Self& self, const BehaviourDef<Self>& behaviour) noexcept {
-  for (std::size_t s = 0; s < behaviour.stageCount; ++s) {
-    const StageDef<Self>& stage = behaviour.stages[s];
-    for (std::size_t f = 0; f < stage.count; ++f) (self.*stage.functions[f])();
-  }
-}
-
 /// The base of every generated subsystem (CRTP): Self supplies the tables and the
 /// member functions they point to.
 template <class Self>
@@ -108,10 +99,22 @@ class Subsystem : public Component {
   }
 
   void updateHook() noexcept override {
+    Self& self = static_cast<Self&>(*this);
+    step([&self](Action<Self> function) noexcept { (self.*function)(); });
+  }
+
+  /// One iteration of the basic-behaviour loop, in which ``run(pf)`` runs each pf of each
+  /// stage, the stages in order and the pf of a stage in model order. updateHook() calls the
+  /// pf itself; the Orocos target's master component runs each as a component of its own.
+  template <class RunFunction>
+  void step(RunFunction&& run) noexcept {
     if (!started_) startHook();
     Self& self = static_cast<Self&>(*this);
     const BehaviourDef<Self>& behaviour = tables_.behaviours[tables_.states[current_].behaviour];
-    runStages(self, behaviour);
+    for (std::size_t s = 0; s < behaviour.stageCount; ++s) {
+      const StageDef<Self>& stage = behaviour.stages[s];
+      for (std::size_t f = 0; f < stage.count; ++f) run(stage.functions[f]);
+    }
     (self.*behaviour.send)();
     ++iteration_;
     (self.*behaviour.receive)();
