@@ -37,25 +37,17 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from earl_m2t.api import check_loaded, load
-    from earl_m2t.cli.check import UsageError, options_for_model
-    from earl_m2t.config import ConfigError
-    from earl_m2t.diagnostics import ModelReadError, SourceTextError, Severity
+    from earl_m2t.cli.checked_model import read_and_check
+    from earl_m2t.diagnostics import Severity
     from earl_m2t.gen import GenError, generate
     from earl_m2t.output import OutputError
     from earl_m2t.render.diagnostics import text_line
 
-    try:
-        options = options_for_model(args, args.model)
-    except (ConfigError, UsageError, SourceTextError) as error:
-        print(str(error).splitlines()[0], file=sys.stderr)
-        return 2
-    try:
-        loaded = load(args.model, getattr(args, "dialect", None))
-    except ModelReadError as error:
-        print(f"earl-m2t: gen: {error}", file=sys.stderr)
-        return 2
-    errors = [d for d in check_loaded(loaded, options) if d.severity == Severity.ERROR]
+    checked = read_and_check(args, "gen")
+    if isinstance(checked, int):
+        return checked
+    loaded = checked.loaded
+    errors = [d for d in checked.findings if d.severity == Severity.ERROR]
     if errors and not args.force:
         for diagnostic in errors:
             print(text_line(diagnostic), file=sys.stderr)

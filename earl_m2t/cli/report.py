@@ -32,25 +32,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from earl_m2t.api import check_loaded, load
-    from earl_m2t.cli.check import UsageError, options_for_model
-    from earl_m2t.config import ConfigError
-    from earl_m2t.diagnostics import ModelReadError, SourceTextError
+    from earl_m2t.cli.checked_model import read_and_check
     from earl_m2t.gen.errors import GenError
     from earl_m2t.gen.report import render_report
     from earl_m2t.output import OutputError, write_files
 
-    try:
-        options = options_for_model(args, args.model)
-    except (ConfigError, UsageError, SourceTextError) as error:
-        print(str(error).splitlines()[0], file=sys.stderr)
-        return 2
-    try:
-        loaded = load(args.model, getattr(args, "dialect", None))
-    except ModelReadError as error:
-        print(f"earl-m2t: report: {error}", file=sys.stderr)
-        return 2
-    findings = check_loaded(loaded, options)
+    checked = read_and_check(args, "report")
+    if isinstance(checked, int):
+        return checked
+    loaded, findings = checked.loaded, checked.findings
     try:
         files = render_report(loaded.model, findings, png=args.png, templates=args.templates)
         written = write_files(args.output, files)
