@@ -43,9 +43,9 @@ class _Clock:
 
 def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else argv
-    if len(args) != 1:
+    if len(args) != 1 or args[0].startswith("-"):
         print("usage: python bench/phases.py MODEL", file=sys.stderr)
-        return 2
+        return 0 if args and args[0] in ("-h", "--help") else 2
     path = Path(args[0])
     clock = _Clock()
 

@@ -33,8 +33,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.cli.checked_model import read_and_check
+    from earl_m2t.gen.diagrams import find_stale_diagrams
     from earl_m2t.gen.errors import GenError
-    from earl_m2t.gen.report import render_report
+    from earl_m2t.gen.report import diagram_folder, render_report
     from earl_m2t.output import OutputError, write_files
 
     checked = read_and_check(args, "report")
@@ -52,4 +53,6 @@ def run(args: argparse.Namespace) -> int:
         return 2
     index = Path(args.output) / "index.html"
     print(f"report {index}: {len(written.written)} file(s) written, {len(written.unchanged)} unchanged")
+    for stale in find_stale_diagrams(Path(args.output), set(files), diagram_folder()):
+        print(f"orphaned {Path(args.output) / stale} (kept; nothing in the model generates it any more)")
     return 0

@@ -2,8 +2,9 @@
 
 Generated files are rewritten whenever their content changes; user files (one per pf and
 per primitive predicate written in user code) are created once and never touched again.
-A user file that the model no longer produces is reported as orphaned and kept, and so is
-a generated ROS message that the model no longer produces (a renamed dataType).
+A user file that the model no longer produces is reported as orphaned and kept, and so are
+a generated ROS message and a diagram that the model no longer produces (a renamed dataType
+or element).
 
 The targets are registered in ``_TARGETS``, one renderer per entry of
 ``transforms/targets.toml`` (the list ``earl-m2t gen --target`` offers).
@@ -45,7 +46,7 @@ class Rendered:
 @dataclass(frozen=True)
 class GenReport:
     write: WriteReport
-    orphans: tuple[str, ...]  # user files (relative paths) the model no longer produces
+    orphans: tuple[str, ...]  # user files, messages, diagrams (relative paths) the model no longer produces
 
     def lines(self) -> list[str]:
         return self.write.lines() + [f"orphaned {self.write.out_dir / path} (kept; nothing in the model "
@@ -222,6 +223,8 @@ def generate(model: EarlModel, out_dir: Path | str, target: str = "cpp",
     orphans = find_orphans(Path(out_dir), set(rendered.user))
     if target in ("msg", "ros"):
         orphans = tuple(sorted(orphans + find_stale_messages(Path(out_dir), set(rendered.generated))))
+    if target in ("diagrams", "diagrams-png"):
+        orphans = tuple(sorted(orphans + diagrams_gen.find_stale_diagrams(Path(out_dir), set(rendered.generated))))
     return GenReport(report, orphans)
 
 

@@ -44,12 +44,17 @@ class DiagramRef:
     src: str  # path relative to index.html
 
 
+def diagram_folder() -> str:
+    """The report's folder of diagrams, ``diagrams/`` unless ``transforms/report/target.toml``
+    says otherwise."""
+    return str(load_target(TARGET).get("diagrams_folder", "diagrams")).strip("/") + "/"
+
+
 def render_report(model: EarlModel, findings: Sequence[Diagnostic], png: bool = False,
                   templates: Path | None = None) -> dict[str, bytes]:
     """``{relative path: bytes}`` of the report. Raises GenError (DotError when ``dot`` is
     missing or warns)."""
-    spec = load_target(TARGET)
-    folder = str(spec.get("diagrams_folder", "diagrams")).strip("/") + "/"
+    folder = diagram_folder()
     tables = build_tables(model)
     rendered = render_diagrams(model, ("svg", "png") if png else ("svg",), tables=tables)
     files = diagram_files(rendered, folder)
@@ -63,7 +68,7 @@ def render_report(model: EarlModel, findings: Sequence[Diagnostic], png: bool = 
         "findings": rows,
         "counts": Counter(row.severity for row in rows),
     }
-    for template, path in sorted(spec["templates"].items()):
+    for template, path in sorted(load_target(TARGET)["templates"].items()):
         files[path] = render_template(env, template, **context)
     return files
 
