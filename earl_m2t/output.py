@@ -122,6 +122,18 @@ def write_files(out_dir: Path | str, files: Mapping[str, bytes],
 # ---------------------------------------------------------------- internals
 
 
+def written_by_earl_m2t(path: Path, marker: bytes) -> bool:
+    """Whether ``path`` is a regular file (not a link) that starts with ``marker``: how earlier
+    output is told apart from the user's own files when it is reported, never to delete it."""
+    if path.is_symlink() or not path.is_file():
+        return False
+    try:
+        with path.open("rb") as stream:
+            return stream.read(len(marker)) == marker
+    except OSError:
+        return False
+
+
 def _prepare_root(root: Path) -> Path:
     try:
         root.mkdir(parents=True, exist_ok=True)

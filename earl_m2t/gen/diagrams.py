@@ -21,6 +21,7 @@ from earl_m2t.gen.engine import environment, load_target, render as render_templ
 from earl_m2t.gen.views.diagrams import Diagram, build_diagrams
 from earl_m2t.gen.views.tables import SpecTables, build_tables
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.output import written_by_earl_m2t
 
 if TYPE_CHECKING:
     from earl_m2t.gen.generate import Rendered
@@ -96,14 +97,7 @@ def find_stale_diagrams(out_dir: Path, produced: set[str], folder: str = "") -> 
     found: list[str] = []
     for source in sorted((out_dir / folder).glob("*.dot")):
         relative = f"{folder}{source.name}"
-        if relative in produced or source.is_symlink() or not source.is_file():
-            continue
-        try:
-            with source.open("rb") as stream:
-                head = stream.read(len(DOT_FILE_MARKER))
-        except OSError:
-            continue
-        if head == DOT_FILE_MARKER:
+        if relative not in produced and written_by_earl_m2t(source, DOT_FILE_MARKER):
             found.append(relative)
             found.extend(f"{folder}{source.stem}{suffix}" for suffix in IMAGE_SUFFIXES
                          if source.with_suffix(suffix).is_file() and f"{folder}{source.stem}{suffix}" not in produced)

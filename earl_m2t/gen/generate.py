@@ -26,7 +26,7 @@ from earl_m2t.gen.views import orocos as orocos_view
 from earl_m2t.gen.views import ros as ros_view
 from earl_m2t.gen.views.cpp import CppTarget, build_view
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.output import WriteReport, write_files
+from earl_m2t.output import WriteReport, write_files, written_by_earl_m2t
 
 __all__ = ["GenError", "GenReport", "MSG_FILE_MARKER", "Rendered", "TARGETS", "USER_FILE_MARKER", "generate",
            "render"]
@@ -230,36 +230,18 @@ def generate(model: EarlModel, out_dir: Path | str, target: str = "cpp",
 
 def find_stale_messages(out_dir: Path, produced: set[str]) -> tuple[str, ...]:
     """Generated messages (``*/msg/*.msg`` starting with the marker) not in ``produced``."""
-    found: list[str] = []
-    for path in sorted(out_dir.glob("*/msg/*.msg")):
-        relative = path.relative_to(out_dir).as_posix()
-        if relative in produced or path.is_symlink() or not path.is_file():
-            continue
-        try:
-            with path.open("rb") as stream:
-                head = stream.read(len(MSG_FILE_MARKER))
-        except OSError:
-            continue
-        if head == MSG_FILE_MARKER:
-            found.append(relative)
-    return tuple(found)
+    return tuple(relative for path in sorted(out_dir.glob("*/msg/*.msg"))
+                 if (relative := path.relative_to(out_dir).as_posix()) not in produced
+                 and written_by_earl_m2t(path, MSG_FILE_MARKER))
 
 
 def find_orphans(out_dir: Path, produced: set[str]) -> tuple[str, ...]:
     """User files under ``out_dir/user`` (marked as created by earl-m2t) not in ``produced``."""
-    root = out_dir / "user"
     found: list[str] = []
-    for folder, _dirs, names in os.walk(root, followlinks=False):
+    for folder, _dirs, names in os.walk(out_dir / "user", followlinks=False):
         for name in names:
             path = Path(folder) / name
             relative = PurePosixPath(path.relative_to(out_dir).as_posix())
-            if str(relative) in produced or path.is_symlink():
-                continue
-            try:
-                with path.open("rb") as stream:
-                    head = stream.read(len(USER_FILE_MARKER))
-            except OSError:
-                continue
-            if head == USER_FILE_MARKER:
+            if str(relative) not in produced and written_by_earl_m2t(path, USER_FILE_MARKER):
                 found.append(str(relative))
     return tuple(sorted(found))
