@@ -48,8 +48,9 @@ STEREOTYPE_METADATA = "Stereotype"
 METACLASS_ATTRIBUTE = "metaclass"
 TAG_METADATA = "Tag"
 
-# Definition kinds that are not concepts.
-_NOT_CONCEPTS = frozenset({"enum", "metadata"})
+# Definition kinds that are not concepts: enumerations used by tags, and the metadata and
+# calculation definitions that models use (`@Priority`, `newData(x)`).
+_NOT_CONCEPTS = frozenset({"enum", "metadata", "calc"})
 # Types of the SysML v2 library package ScalarValues, usable as feature types.
 _SCALAR_VALUES = frozenset(
     {

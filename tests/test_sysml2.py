@@ -154,3 +154,32 @@ def test_the_sysml_sample_generates_the_same_cpp_project_as_the_papyrus_one(tmp_
         assert main(["gen", str(model), "--target", "cpp", "-o", str(out)]) == 0
         trees[name] = {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
     assert trees["uml"] and trees["sysml"] == trees["uml"]
+
+
+def test_the_metadata_definitions_of_the_profile_apply_their_stereotypes() -> None:
+    """SysML v2 types metadata by metadata definitions: EARL::Model declares one for each
+    stereotype that models apply as metadata, and the reader knows which stereotype each one
+    applies; `Priority` carries the tag of «FsmTransition»."""
+    from earl_m2t.profile import load_profile
+    from earl_m2t.sysml2.parser import identification, members, parse_file, rule
+    from earl_m2t.sysml2.scope import METADATA_CONCEPTS
+
+    (earl,) = members(parse_file(ROOT / "profiles" / "earl.sysml"))
+    (model,) = [m for m in members(earl) if rule(m) == "Package" and identification(m)[1] == "Model"]
+    declared = {identification(d)[1]: d for d in members(model) if rule(d) == "Definition" and d.kind == "metadata"}
+    assert set(declared) == set(METADATA_CONCEPTS)
+    profile = load_profile()
+    assert all(concept in profile.concepts for concept in METADATA_CONCEPTS.values())
+    priority = [identification(f)[1] for f in members(declared["Priority"]) if rule(f) == "Usage"]
+    assert priority == [t.name for t in profile.tags("FsmTransition")] == ["priority"]
+
+
+def test_priorities_and_exclusions_typed_by_the_concepts_still_read(tmp_path: Path, papyrus: dict[str, Any]) -> None:
+    """`@FsmTransition { priority = 1; }` and `metadata x : Exclusion about …`, as earlier
+    versions wrote them, apply the same stereotypes as `@Priority` and `Exclusive`."""
+    text = SAMPLE.read_text(encoding="utf-8")
+    assert "@Priority {" in text and ": Exclusive about" in text
+    path = tmp_path / "earlier.sysml"
+    path.write_text(text.replace("@Priority {", "@FsmTransition {").replace(": Exclusive about", ": Exclusion about"),
+                    encoding="utf-8")
+    assert shown(path) == papyrus

@@ -75,3 +75,23 @@ def test_converting_the_other_forms_reads_back_as_the_same_model_but_for_the_rou
     assert after["systems"][0]["agents"][0]["recognised_by"] == "stereotype"
     assert without_route(after) == without_route(before)
     assert "language \"C++\"\n" in text and "then action 'filter' : 'filter/pf';" in text
+
+
+def test_the_forms_earlier_versions_wrote_still_read_as_the_same_model(tmp_path: Path) -> None:
+    """Metadata typed by the concepts themselves, predicates navigated (`'x/pp'.fun`), `do`
+    naming a shared behaviour and an item as a buffer are not valid SysML v2 (a SysML v2 tool
+    rejects them), but earl-m2t reads them as it did, as the same model as their valid forms."""
+    from test_sample_dialects_equal import without_location
+
+    text = FORMS.read_text(encoding="utf-8")
+    earlier = text
+    for valid, old in [("#Memory attribute", "#InternalMemory attribute"), ("@Exclusive about", "@Exclusion about"),
+                       ("'high/pp'()", "'high/pp'.fun"), ("'low/pp'()", "'low/pp'.fun"),
+                       ("do action watching : 'watch/bb';", "do 'watch/bb';"),
+                       ("in 'raw/ib' : Reading;", "in item 'raw/ib' : Reading;"),
+                       ("Probe::'sample/pf'", "'sample/pf'")]:
+        assert valid in earlier, valid
+        earlier = earlier.replace(valid, old)
+    path = tmp_path / "forms.sysml"
+    path.write_text(earlier, encoding="utf-8")
+    assert without_location(model_to_dict(load(path).model)) == without_location(model_to_dict(load(FORMS).model))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from functools import cache
 
-from earl_m2t.sysml2.conditions import NotACondition, predicate_text
+from earl_m2t.sysml2.conditions import FUNCTION, NotACondition, predicate_text
 from earl_m2t.sysml2.parser import Sysml2SyntaxError, members, parse_text, rule, unwrap
 from earl_m2t.sysml2.subset import subset
 
@@ -28,13 +28,24 @@ def qualified(name: str) -> str:
     return "::".join(quoted(part) for part in name.split("::"))
 
 
+# Suffixes of names that a SysML v2 expression cannot refer to: the accesses of a function to
+# the internal memory (`x/mi`, `x/mo`) are not features of the subsystem, and a primitive
+# predicate (`x/pp`) is a calculation definition, invoked as `'x/pp'()` for `x/pp.fun`.
+_NOT_FEATURES = frozenset({"mi", "mo", "pp"})
+
+
 def expression(text: str) -> str | None:
-    """The SysML v2 expression that reads back as exactly this predicate text, or None."""
+    """The SysML v2 expression that reads back as exactly this predicate text, or None when
+    there is none or it would refer to what is not a feature of the subsystem."""
     parts: list[str] = []
-    for token in _TOKEN.findall(text):
-        if token.isspace():
-            continue
-        if token in _WORDS:
+    tokens = [token for token in _TOKEN.findall(text) if not token.isspace()]
+    for i, token in enumerate(tokens):
+        if i >= 2 and tokens[i - 1] == "." and tokens[i - 2].endswith("/pp") and token == FUNCTION:
+            parts[-1] = "()"  # `x/pp.fun` → `'x/pp'()`
+        elif "/" in token and token.rpartition("/")[2] in _NOT_FEATURES and not (
+                token.endswith("/pp") and tokens[i + 1:i + 3] == [".", FUNCTION]):
+            return None
+        elif token in _WORDS:
             word = _WORDS[token]
             parts.append(f" {word} " if word in ("and", "or") else word)
         elif token in ("==", "!=", "<=", ">=", "<", ">"):

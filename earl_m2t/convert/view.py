@@ -163,11 +163,11 @@ class _View:
         for template, group in _grouped(subsystem.memory, lambda m: m.template):
             size = f"[{len(group)}]" if group[0].index else ""
             typed = f" : {self.type_name(group[0].datatype)}" if group[0].datatype else ""
-            marker = "" if suffix_of(template) == "m" else "#InternalMemory "
+            marker = "" if suffix_of(template) == "m" else "#Memory "
             lines.append(f"{marker}attribute {quoted(template)}{typed}{size};")
         for exclusion in subsystem.exclusions:
             about = ", ".join(quoted(p) for p in exclusion.predicates)
-            head = f"metadata {quoted(exclusion.name)} : Exclusion" if exclusion.name else "@Exclusion"
+            head = f"metadata {quoted(exclusion.name)} : Exclusive" if exclusion.name else "@Exclusive"
             lines.append(f"{head} about {about};")
         for predicate in subsystem.predicates:
             lines.extend(self.predicate(predicate.name, predicate.language, predicate.body, predicate.fun))
@@ -226,7 +226,7 @@ class _View:
         for behaviour_name in behaviours:
             behaviour = subsystem.behaviour(behaviour_name)
             if behaviour is None or behaviour_name in shared:
-                lines.append(f"    do {quoted(behaviour_name)};")
+                lines.append(f"    do action : {quoted(behaviour_name)};")
                 continue
             lines.append(f"    do action {quoted(behaviour_name)} {{")
             lines.extend("        " + line for line in self.activity(behaviour))
@@ -271,7 +271,7 @@ class _View:
         if condition is not None and written is None:
             body.extend(_representation(condition.language, condition.text))
         if priority:
-            body.append(f"@FsmTransition {{ priority = {priority}; }}")
+            body.append(f"@Priority {{ priority = {priority}; }}")
         first = f"transition {quoted(name)}"
         rest = [f"first {quoted(source)}{guard}", f"then {quoted(target)}"]
         if not body:

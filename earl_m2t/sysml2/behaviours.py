@@ -1,6 +1,6 @@
 """The behaviours a subsystem's ``part def`` owns: ``action def`` (a partial transition
 function, or a shared basic behaviour ``/bb``), ``calc def`` / ``constraint def`` (a primitive
-predicate) and ``metadata … : Exclusion about …`` (exclusive predicates)."""
+predicate) and ``metadata … : Exclusive about …`` (exclusive predicates)."""
 
 from __future__ import annotations
 
@@ -65,7 +65,7 @@ class BehaviourWriter:
             self.uml.body(behaviour, PREDICATE_LANGUAGE, *found)
 
     def exclusion(self, block: Block, node: Any) -> None:
-        if self.scope.resolve(node.type).concept != EXCLUSION:
+        if self.scope.metadata_concept(node.type) != EXCLUSION:
             return
         constraint = self.uml.child(block.element, "ownedRule", "Constraint", node, identification(node)[1] or "")
         self.uml.apply(constraint, EXCLUSION, {}, location(node)[0])

@@ -1,9 +1,11 @@
 """EARL conditions written as SysML v2 expressions, as text of the predicate language.
 
-A guard ``if 'newJointPos/pp'.fun and not 'emergencyStop/pp'.fun`` reads as the predicate
+A guard ``if 'newJointPos/pp'() and not 'emergencyStop/pp'()`` reads as the predicate
 ``newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun`` (``metamodel/grammar/predicate.tx``): ``or``,
 ``and``, ``not`` become ``∨``, ``∧``, ``¬``, ``true``/``false`` ``TRUE``/``FALSE``, quoted
-names lose their quotes; comparisons, invocations (``newData(x)``) and parentheses stay as
+names lose their quotes, an invocation without arguments of a primitive predicate's
+``calc def`` (``'x/pp'()``) is its function ``x/pp.fun``; comparisons, other invocations
+(``newData(x)``), feature chains (``'x/pp'.fun``, read as written) and parentheses stay as
 written.
 """
 
@@ -15,6 +17,8 @@ from earl_m2t.sysml2.parser import name_segments, rule
 
 OPERATORS = {"OrExpression": " ∨ ", "AndExpression": " ∧ "}
 UNARY = {"not": "¬", "-": "-", "+": "+", "~": "~"}
+# The function of a primitive predicate in the predicate language: `x/pp.fun`.
+FUNCTION = "fun"
 
 
 class NotACondition(ValueError):
@@ -37,6 +41,8 @@ def predicate_text(expression: Any) -> str:
     if kind == "ParenthesizedExpression":
         return f"({predicate_text(expression.inner)})"
     if kind == "InvocationExpression":
+        if not expression.arguments:
+            return f"{_name(expression.function)}.{FUNCTION}"
         arguments = ", ".join(predicate_text(a) for a in expression.arguments)
         return f"{_name(expression.function)}({arguments})"
     if kind == "FeatureReference":

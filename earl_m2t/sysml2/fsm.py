@@ -3,7 +3,7 @@
 ``entry; then S;`` makes S the initial state; ``state S { do action 'S/bb' { … } }`` gives S
 its basic behaviour, inline or by reference (``do 'shared/bb';``, ``do action : 'shared/bb';``)
 to an ``action def`` of the subsystem; ``transition name first S if guard then T { … }``
-is a transition, its guard the initial condition, ``@FsmTransition { priority = n; }`` in its
+is a transition, its guard the initial condition, ``@Priority { priority = n; }`` in its
 body its priority.
 """
 

@@ -16,6 +16,10 @@ from earl_m2t.sysml2.subset import SUBSET_TABLE
 
 PROFILE_PACKAGE = "EARL"
 
+# The metadata definitions of EARL::Model and the stereotype that each applies: SysML v2 types
+# metadata by metadata definitions, and the concepts are part, port and interface definitions.
+METADATA_CONCEPTS = {"Priority": "FsmTransition", "Exclusive": "Exclusion", "Memory": "InternalMemory"}
+
 
 @cache
 def scalar_values() -> dict[str, str]:
@@ -65,6 +69,15 @@ class Scope:
         if name in scalar_values():
             return Resolved(primitive=scalar_values()[name])
         return Resolved(text="::".join(segments) or raw)
+
+    def metadata_concept(self, raw: str) -> str:
+        """The EARL concept that metadata typed ``raw`` applies: the concept of a metadata
+        definition of the profile (:data:`METADATA_CONCEPTS`), or a concept named itself."""
+        segments = name_segments(raw)
+        name = segments[-1] if segments else raw
+        if name not in self.definitions and METADATA_CONCEPTS.get(name, "") in self.profile.concepts:
+            return METADATA_CONCEPTS[name]
+        return self.resolve(raw).concept
 
     def typing(self, usage: Any) -> Resolved | None:
         """What the first type of a usage (``x : T``) stands for; None when it has none."""

@@ -8,7 +8,7 @@ whatever the input.
 - ``part def X :> Agent`` (a definition of the EARL profile, ``EARL::Model``) is the
   stereotype «Agent» applied to the block X, with the tags its ``:>> tag = value;`` features
   set; ``:> Y`` of a definition of the model is a generalisation; ``#Agent`` and
-  ``@FsmTransition { priority = 1; }`` apply stereotypes too (:mod:`earl_m2t.sysml2.uml`);
+  ``@Priority { priority = 1; }`` apply stereotypes too (:mod:`earl_m2t.sysml2.uml`);
 - attribute and enumeration definitions are dataTypes; part, port and attribute usages are
   UML properties and ports; a port typed by ``InputBuffer``/``OutputBuffer`` takes its
   dataType from ``:>> msg : T``;

@@ -124,13 +124,13 @@ class UmlWriter:
         """What annotates a usage or definition: stereotypes through ``#X`` and ``@X { tag = v; }``,
         and its ``doc`` and ``comment``s (where ``earl-m2t: ignore[…]`` suppressions are read)."""
         for prefix in getattr(node, "prefixMetadata", None) or []:
-            concept = self.scope.resolve(prefix.type).concept
+            concept = self.scope.metadata_concept(prefix.type)
             if concept:
                 self.apply(element, concept, {}, location(node)[0])
         for member in members(node):
             kind = rule(member)
             if kind == "MetadataUsage" and not member.about:
-                concept = self.scope.resolve(member.type).concept
+                concept = self.scope.metadata_concept(member.type)
                 if concept:
                     self.apply(element, concept, metadata_tags(member), location(member)[0])
             elif kind in ("Documentation", "CommentElement"):

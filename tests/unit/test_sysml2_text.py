@@ -21,6 +21,7 @@ def condition(text: str) -> str:
 
 
 @pytest.mark.parametrize(("written", "read"), [
+    ("'newJointPos/pp'() and not 'emergencyStop/pp'()", "newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun"),
     ("'newJointPos/pp'.fun and not 'emergencyStop/pp'.fun", "newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun"),
     ("a or b and c", "a ∨ b ∧ c"),
     ("(a or b) and c", "(a ∨ b) ∧ c"),
@@ -51,11 +52,22 @@ def test_predicate_text_is_written_as_an_expression_that_reads_back_the_same(tex
     assert written is not None and condition(written) == text
 
 
+def test_a_primitive_predicate_is_invoked_not_navigated() -> None:
+    """`x/pp` is a `calc def`, not a feature: SysML v2 tools accept `'x/pp'()` as a Boolean
+    guard, not `'x/pp'.fun`."""
+    assert expression("a/pp.fun ∧ ¬b/pp.fun") == "'a/pp'() and not 'b/pp'()"
+    assert expression("newData(c/ib.msg.x) ∨ d/m") == "newData('c/ib'.msg.x) or 'd/m'"
+
+
 @pytest.mark.parametrize("text", [
     "a/ib.msg.x ∨ … ∨ b/ib.msg.x",  # the paper's ellipsis
     "any K: motorControllerStateK/ib.msg.emergencyStopCommand",
     "a/pp.fun∧b/pp.fun",  # reads back with spaces: not the same text
     "a && b",
+    "taskAborted/pp",  # a calculation definition, not a Boolean
+    "motionFinished/mi.msg",  # a memory access of a function, not a feature of the subsystem
+    "temperature/mi.data < 19.5",
+    "x/mo.data ∧ a/pp.fun",
 ])
 def test_predicate_text_no_expression_says_exactly_is_kept_as_text(text: str) -> None:
     assert expression(text) is None
