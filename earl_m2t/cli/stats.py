@@ -41,6 +41,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     path = Path(args.model)
+    if path.suffix.lower() == ".sysml":
+        print(f"{path}: error: stats counts the elements of SysML v1 XMI; SysML v2 text is not counted "
+              "(earl-m2t show reads it)", file=sys.stderr)
+        return 2
     try:
         raw = load_raw_model(path, args.dialect)
         size = path.stat().st_size

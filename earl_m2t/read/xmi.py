@@ -390,7 +390,7 @@ def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:
     if not path.exists():
         raise ModelReadError(file, "no such file")
     if path.suffix.lower() == ".sysml":
-        raise ModelReadError(file, "SysML v2 textual models are not supported yet")
+        raise ModelReadError(file, "is SysML v2 text, not XMI")
     if is_archive(path):
         members = read_model_members(path)
         documents = [(parse_xml_bytes(m.data, m.file).getroot(), m.file) for m in members]
