@@ -11,7 +11,7 @@ from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift import lift
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.read.xmi import load_raw_model
-from earl_m2t.sysml2.reader import is_sysml2, read_sysml2
+from earl_m2t.sysml2.files import is_sysml2
 
 if TYPE_CHECKING:
     from earl_m2t.check.suppress import Suppression
@@ -34,7 +34,12 @@ def load(path: Path | str, dialect: str | None = None) -> Loaded:
     from earl_m2t.check.suppress import read_suppressions
 
     file = Path(path)
-    raw = read_sysml2(file) if is_sysml2(file) else load_raw_model(file, dialect)
+    if is_sysml2(file):
+        from earl_m2t.sysml2.reader import read_sysml2  # loaded only when needed
+
+        raw = read_sysml2(file)
+    else:
+        raw = load_raw_model(file, dialect)
     result = lift(raw)
     return Loaded(result.model, result.diagnostics, read_suppressions(raw))
 

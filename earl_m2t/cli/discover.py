@@ -12,7 +12,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-MODEL_SUFFIXES = (".uml", ".xmi", ".mdzip", ".xml", ".sysml")
+from earl_m2t.sysml2.files import SUFFIX as SYSML2_SUFFIX
+
+MODEL_SUFFIXES = (".uml", ".xmi", ".mdzip", ".xml", SYSML2_SUFFIX)
 _XMI_MARKS = (b"omg.org/spec/XMI", b"schema.omg.org/spec/XMI", b"xmi:version", b"xmi.version")
 
 

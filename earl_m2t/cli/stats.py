@@ -12,6 +12,7 @@ from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.lift import lift
 from earl_m2t.read.xmi import load_raw_model
+from earl_m2t.sysml2.files import is_sysml2
 from earl_m2t.stats import Stats, model_stats
 
 FORMAT_VERSION = 1
@@ -41,7 +42,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     path = Path(args.model)
-    if path.suffix.lower() == ".sysml":
+    if is_sysml2(path):
         print(f"{path}: error: stats counts the elements of SysML v1 XMI; SysML v2 text is not counted "
               "(earl-m2t show reads it)", file=sys.stderr)
         return 2

@@ -30,6 +30,7 @@ from earl_m2t.read.extension import ExtensionIndex, in_connector_order
 from earl_m2t.read.libraries import classify
 from earl_m2t.read.mdzip import is_archive, read_model_members
 from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_file
+from earl_m2t.sysml2.files import is_sysml2
 
 Element: TypeAlias = etree._Element
 
@@ -389,7 +390,7 @@ def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:
         raise ModelReadError(file, "is a directory, not a model file")
     if not path.exists():
         raise ModelReadError(file, "no such file")
-    if path.suffix.lower() == ".sysml":
+    if is_sysml2(path):
         raise ModelReadError(file, "is SysML v2 text, not XMI")
     if is_archive(path):
         members = read_model_members(path)

@@ -19,7 +19,6 @@ from earl_m2t.sysml2.subset import Outside, outside_constructs
 from earl_m2t.sysml2.to_xmi import build_xmi
 
 DIALECT = "sysml-v2"
-SUFFIXES = frozenset({".sysml"})
 OUTSIDE_CODE = "R007"
 
 
@@ -34,10 +33,6 @@ class Sysml2ReadError(ModelReadError):
         if self.line and self.column:
             return f"{self.file}:{self.line}:{self.column}: error: {self.message}"
         return super().one_line()
-
-
-def is_sysml2(path: Path) -> bool:
-    return path.suffix.lower() in SUFFIXES
 
 
 def read_sysml2(path: Path) -> RawModel:
