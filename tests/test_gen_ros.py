@@ -207,7 +207,9 @@ def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(buil
     states: list[str] = []
     seen: list[str] = []
     try:
-        launch = subprocess.Popen(["roslaunch", "--wait", "pick_and_place_bringup", "system.launch", "period:=0.002"],
+        # the model's period (10 ms): task/a.cs sends its setpoint in one period only, and a node
+        # that falls a whole period behind reads the next command instead (docs/ros-target.md)
+        launch = subprocess.Popen(["roslaunch", "--wait", "pick_and_place_bringup", "system.launch", "period:=0.01"],
                                   env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
         assert launch.stdout is not None
         fd = launch.stdout.fileno()
