@@ -57,6 +57,22 @@ def test_a_converted_sample_reads_back_as_the_same_model(name: str, tmp_path: Pa
     assert [str(d) for d in check(target)] == []
 
 
+def test_convert_never_replaces_an_edited_file_unless_forced(tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    target = tmp_path / "model.sysml"
+    assert main(["convert", str(FILES["papyrus"]), "--to", "sysml", "-o", str(target)]) == 0
+    assert main(["convert", str(FILES["papyrus"]), "--to", "sysml", "-o", str(target)]) == 0  # unchanged
+    edited = target.read_text(encoding="utf-8") + "// my note\n"
+    target.write_text(edited, encoding="utf-8")
+    capsys.readouterr()
+    assert main(["convert", str(FILES["papyrus"]), "--to", "sysml", "-o", str(target)]) == 1
+    assert capsys.readouterr().err == (f"earl-m2t: convert: {target} exists and differs from the conversion; "
+                                       "nothing written (--force to replace it)\n")
+    assert target.read_text(encoding="utf-8") == edited
+    assert main(["convert", str(FILES["papyrus"]), "--to", "sysml", "-o", str(target), "--force"]) == 0
+    assert "// my note" not in target.read_text(encoding="utf-8")
+
+
 def test_converting_the_sysml_sample_gives_back_the_same_model(tmp_path: Path, papyrus: dict[str, Any]) -> None:
     target = tmp_path / "again.sysml"
     target.write_text(to_sysml(load(SAMPLE).model), encoding="utf-8")

@@ -1,6 +1,7 @@
 """``earl-m2t convert MODEL --to sysml [-o FILE]``: a model (any supported input) as SysML v2 text.
 
-Writes to stdout, or to FILE atomically (through :mod:`earl_m2t.output`). A model that cannot
+Writes to stdout, or to FILE atomically (through :mod:`earl_m2t.output`); an existing FILE
+with other content (hand edits, say) is kept unless ``--force``, exit 1. A model that cannot
 be read, or a file that cannot be written, is one line on stderr and exit 2.
 """
 
@@ -24,6 +25,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("model", metavar="MODEL")
     parser.add_argument("--to", required=True, choices=FORMATS, help="sysml: SysML v2 textual notation")
     parser.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    parser.add_argument("--force", action="store_true",
+                        help="replace FILE when it exists with other content (it may hold edits)")
     add_dialect_option(parser)
     parser.set_defaults(run=run)
 
@@ -44,8 +47,14 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(text)
         return 0
     target = Path(args.output)
+    content = text.encode("utf-8")
+    if not args.force and target.is_file() and target.read_bytes() != content:
+        # a converted model is meant to be edited by hand afterwards: never replace it silently
+        print(f"earl-m2t: convert: {target} exists and differs from the conversion; nothing written "
+              "(--force to replace it)", file=sys.stderr)
+        return 1
     try:
-        report = write_files(target.parent, {target.name: text.encode("utf-8")})
+        report = write_files(target.parent, {target.name: content})
     except OutputError as exc:
         print(f"earl-m2t: {exc}", file=sys.stderr)
         return 2
