@@ -1,16 +1,20 @@
 """The Orocos RTT target: the FABRIC files validate against metamodel/fabric/*.xsd (and a
 broken one does not), the deployer scripts name only components, ports and component types
 that the generated C++ defines, the run-time configurations agree with the scripts, output is
-deterministic and user files are never overwritten, and (when an RTT installation is found)
-the generated project compiles and links against it."""
+deterministic and user files are never overwritten; against a real Orocos RTT 2.9 and OCL
+(tests/support/orocos.py finds or builds them) the generated project compiles warning-free with
+-Werror, and OCL's deployer runs deploy/system.ops through the model's states."""
 
 from __future__ import annotations
 
 import os
 import re
+import select
 import shutil
+import signal
 import subprocess
 import sys
+import time
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
@@ -18,6 +22,7 @@ import pytest
 
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, generate, render
+from tests.support import orocos
 
 xmlschema = pytest.importorskip("xmlschema", reason="xmlschema (test extra) validates the FABRIC files")
 
@@ -273,31 +278,125 @@ def test_colliding_component_names_are_refused_in_one_line(tmp_path: Path) -> No
     assert result.returncode != 0 and len(result.stderr.splitlines()) == 1 and "Traceback" not in result.stderr
 
 
-# ---------------------------------------------------------------- against a real RTT
+# ---------------------------------------------------------------- against a real RTT and OCL
 
 
-def rtt_prefix() -> str | None:
-    """OROCOS_RTT_PREFIX, else the prefix pkg-config knows for orocos-rtt-gnulinux."""
-    if os.environ.get("OROCOS_RTT_PREFIX"):
-        return os.environ["OROCOS_RTT_PREFIX"]
-    if shutil.which("pkg-config") is None:
-        return None
-    result = subprocess.run(["pkg-config", "--variable=prefix", "orocos-rtt-gnulinux"], capture_output=True,
-                            text=True)
-    return result.stdout.strip() or None if result.returncode == 0 else None
+@pytest.fixture(scope="module")
+def rtt() -> orocos.Installation:
+    """The RTT/OCL installation of tests/support/orocos.py. With ../shared/vendor/orocos beside
+    the checkout a missing or failed build is a failure (never a skip), with the build log's tail."""
+    try:
+        return orocos.installation()
+    except orocos.OrocosBuildFailed as failure:
+        pytest.fail(str(failure), pytrace=False)
+    except orocos.OrocosUnavailable as reason:
+        if orocos.VENDOR.is_dir() or os.environ.get("OROCOS_RTT_PREFIX"):
+            pytest.fail(str(reason), pytrace=False)
+        pytest.skip(str(reason))
 
 
-@pytest.mark.skipif(rtt_prefix() is None or shutil.which("cmake") is None,
-                    reason="no Orocos RTT installation (set OROCOS_RTT_PREFIX or make pkg-config find "
-                           "orocos-rtt-gnulinux; see docs/orocos-target.md)")
-def test_the_generated_project_compiles_and_links_against_rtt(out: Path) -> None:
-    build = out / "build"
-    prefix = rtt_prefix()
-    for command in (["cmake", "-S", str(out), "-B", str(build), f"-DCMAKE_PREFIX_PATH={prefix}"],
-                    ["cmake", "--build", str(build), "-j", str(os.cpu_count() or 2)]):
-        result = subprocess.run(command, capture_output=True, text=True, timeout=900)
+@pytest.fixture(scope="module")
+def installed(out: Path, rtt: orocos.Installation) -> Path:
+    """The sample's Orocos project built against RTT and installed into out/install; the
+    compiler's output is kept in out/build.log for the warning check."""
+    build, log = out / "build", []
+    env = rtt.environment([])
+    for command in (["cmake", "-S", str(out), "-B", str(build), f"-DCMAKE_PREFIX_PATH={rtt.prefix}"],
+                    ["cmake", "--build", str(build), "-j", str(os.cpu_count() or 2)],
+                    ["cmake", "--install", str(build), "--prefix", str(out / "install")]):
+        result = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env)
+        log.append(result.stdout + result.stderr)
         assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
-        assert "warning:" not in result.stdout + result.stderr
-    libraries = sorted(p.name for p in build.rglob("lib*-gnulinux.so"))
+    (out / "build.log").write_text("".join(log))
+    return out / "install"
+
+
+def test_the_generated_project_compiles_and_links_against_rtt(out: Path, installed: Path) -> None:
+    assert "warning:" not in (out / "build.log").read_text()
+    # every component library was compiled with -Wall -Wextra -Werror (the flags CMake used)
+    flags = sorted((out / "build").glob("CMakeFiles/*.dir/flags.make"))
+    assert len(flags) == 7 and all("-Wall -Wextra -Werror" in f.read_text() for f in flags)
+    libraries = sorted(p.name for p in (out / "build").rglob("lib*-gnulinux.so"))
     assert libraries == sorted(f"lib{p.parent.parent.name}_{p.parent.name}-gnulinux.so"
                                for p in out.glob("orocos/*/*/components.cpp"))
+    assert len(libraries) == 7
+    installed_libraries = sorted(p.name for p in installed.rglob("lib*-gnulinux.so"))
+    assert installed_libraries == libraries
+
+
+DEPLOYER_STATE = re.compile(r"^step (\d+) manip_a_cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
+LOADED = re.compile(r"Adding (\w+) as new peer:\s+OK\.")
+ERROR = re.compile(r"\[\s*ERROR\s*\]")
+CONNECTED = re.compile(r"Connected Port ([\w.]+) to\s+([\w.]+)\.")
+
+
+def script_calls(deploy: Path, operation: str) -> list[list[str]]:
+    """The arguments of every call of one deployer operation in every generated script."""
+    calls = []
+    for script in sorted(deploy.glob("*.ops")):
+        for line in script.read_text().splitlines():
+            match = CALL.match(line.strip())
+            if match and match.group(1) == operation:
+                calls.append([quoted or bare for quoted, bare in ARGUMENT.findall(match.group(2))])
+    return calls
+
+
+def run_deployer(deploy: Path, env: dict[str, str], until: str, seconds: float) -> tuple[list[str], int, int]:
+    """Runs `deployer -s system.ops` headless (no terminal on stdin) from deploy/ until manip/a.cs
+    reaches the state `until` or the time is up, then stops it with SIGINT as a user would.
+    Returns (its output lines, its exit status, the process group that must be gone)."""
+    process = subprocess.Popen(["deployer", "-l", "info", "-s", "system.ops"], cwd=deploy, env=env,
+                               stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                               start_new_session=True)
+    assert process.stdout is not None
+    lines: list[str] = []
+    buffered = ""
+    deadline = time.monotonic() + seconds
+    fd = process.stdout.fileno()
+    try:
+        while time.monotonic() < deadline and process.poll() is None:
+            ready, _, _ = select.select([fd], [], [], 0.2)
+            buffered += os.read(fd, 65536).decode(errors="replace") if ready else ""
+            *complete, buffered = buffered.split("\n")
+            lines.extend(complete)
+            if any(f"-> {until} " in line for line in complete if "manip_a_cs:" in line):
+                time.sleep(0.5)  # a few more periods: the other masters' reactions, no error after
+                break
+        process.send_signal(signal.SIGINT)
+        rest, _ = process.communicate(timeout=30)
+        lines.extend((buffered + rest.decode(errors="replace")).splitlines())
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+    return lines, process.returncode, process.pid
+
+
+def group_is_gone(group: int) -> bool:
+    try:
+        os.killpg(group, 0)
+    except ProcessLookupError:
+        return True
+    return False
+
+
+def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path, installed: Path,
+                                                                      rtt: orocos.Installation) -> None:
+    deploy = out / "deploy"
+    env = rtt.environment([installed / "lib" / "orocos"])
+    lines, status, group = run_deployer(deploy, env, until="emergencyStop", seconds=60)
+    trace = "\n".join(line for line in lines if "manip/a.cs: q" not in line)[-4000:]
+    states = [m.group(2) or m.group(4) for m in map(DEPLOYER_STATE.match, (line.strip() for line in lines)) if m]
+    assert states[:4] == ["idle", "jointMove", "idle", "emergencyStop"], trace
+    # OCL's own log: every component of the scripts loaded, every connection made, no error
+    log = (deploy / "orocos.log").read_text(errors="replace").splitlines()
+    assert not [line for line in lines + log if ERROR.search(line)], trace
+    loaded = {m.group(1) for m in map(LOADED.search, log) if m}
+    assert loaded == {arguments[0] for arguments in script_calls(deploy, "loadComponent")}
+    assert len(loaded) == 41
+    connected = [(m.group(1), m.group(2)) for m in map(CONNECTED.search, log) if m]
+    connects = [(arguments[0], arguments[1]) for arguments in script_calls(deploy, "connect")]
+    assert sorted(connected) == sorted(connects) and len(connects) == 187
+    # SIGINT stops it cleanly, and nothing of it is left running
+    assert "DeploymentComponent: Got interrupt !" in lines and status == 0, trace
+    assert group_is_gone(group)

@@ -14,6 +14,7 @@ from typing import Iterator, Mapping
 from earl_m2t.model.location import Location
 
 SUBSYSTEM_KINDS = ("cs", "ve", "re", "vr", "rr")
+RECEIVE_MODES = ("latest", "queue")  # how an Input Buffer receives (Buffer.receive)
 
 
 @dataclass(frozen=True, slots=True)
@@ -75,6 +76,10 @@ class Buffer:
     location: Location
     recognised_by: str
     type_ref: str = ""  # the type reference as written when it did not resolve (rule D001)
+    # how an Input Buffer receives: "latest" keeps the newest value (EARL's default), "queue"
+    # keeps up to queue_size values in arrival order and reports an overflow
+    receive: str = "latest"
+    queue_size: int = 0
 
     @property
     def abbreviation(self) -> str:
@@ -168,11 +173,35 @@ class BasicBehaviour:
 
 
 @dataclass(frozen=True, slots=True)
+class BufferGroup:
+    """FABRIC's buffer group: the Input Buffers an iteration waits for (obligatory) and those it
+    reads when they have new data (optional)."""
+
+    name: str
+    path: str  # subsystem path + "." + name
+    obligatory: tuple[str, ...]  # Input Buffer names as written
+    optional: tuple[str, ...]
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class Activation:
+    """When a subsystem in an FSM state runs an iteration (FABRIC's per-state buffer group).
+    The default, no group, is EARL's free-running period: every input read when present."""
+
+    group: str = ""  # a BufferGroup name of the subsystem, "" for none
+    min_period: float | None = None  # seconds; None: the subsystem's own period
+    first_timeout: float | None = None  # seconds to wait for the obligatory inputs on entry
+    next_timeout: float | None = None  # ... and in later iterations
+
+
+@dataclass(frozen=True, slots=True)
 class State:
     name: str
     path: str
     behaviours: tuple[str, ...]  # bb names; exactly one is expected (B002)
     location: Location
+    activation: Activation = Activation()
 
 
 @dataclass(frozen=True, slots=True)
@@ -227,6 +256,7 @@ class Subsystem:
     fsm_count: int
     location: Location
     recognised_by: str
+    buffer_groups: tuple[BufferGroup, ...] = ()
 
     @property
     def buffers(self) -> tuple[Buffer, ...]:
