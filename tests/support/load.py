@@ -44,10 +44,12 @@ def line_buffered(command: Sequence[str | Path]) -> list[str]:
 
 
 def run_until(command: Sequence[str | Path], seen: Callable[[list[str]], bool], timeout: float,
-              env: dict[str, str] | None = None, cwd: Path | None = None) -> tuple[list[str], bool]:
+              env: dict[str, str] | None = None, cwd: Path | None = None,
+              graceful: bool = True) -> tuple[list[str], bool]:
     """Run ``command`` and read its output (stdout and stderr) line by line until ``seen(lines)``
-    holds or ``timeout`` seconds passed; then stop it (its whole process group). Returns the
-    lines and whether ``seen`` held."""
+    holds or ``timeout`` seconds passed; then stop it, its whole process group: with SIGINT
+    first when ``graceful``, else at once with SIGKILL (nothing of the run is needed after
+    ``seen``). Returns the lines and whether ``seen`` held."""
     process = subprocess.Popen(line_buffered(command), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                stdin=subprocess.DEVNULL, env=env, cwd=cwd, text=True, start_new_session=True)
     lines: list[str] = []
@@ -66,13 +68,41 @@ def run_until(command: Sequence[str | Path], seen: Callable[[list[str]], bool], 
     reader.start()
     done.wait(timeout)
     ok = seen(list(lines))
-    stop(process)
+    stop(process, graceful)
     reader.join(5)
     return lines, ok
 
 
-def stop(process: subprocess.Popen[str]) -> None:
-    """SIGINT to the process group (a launch or deployer shuts down), then SIGKILL."""
+def descendants(pid: int) -> list[int]:
+    """Every process started, directly or not, by ``pid`` (from /proc), children first."""
+    parents: dict[int, list[int]] = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rpartition(")")[2].split()
+        except OSError:
+            continue
+        parents.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    found: list[int] = []
+    frontier = [pid]
+    while frontier:
+        children = parents.get(frontier.pop(), [])
+        found.extend(children)
+        frontier.extend(children)
+    return found
+
+
+def stop(process: subprocess.Popen[str], graceful: bool = True) -> None:
+    """Graceful: SIGINT to the process group (a launch or deployer shuts down), then SIGKILL.
+    Otherwise SIGKILL at once to it and every process it started, even those in sessions of
+    their own (roslaunch starts its nodes so)."""
+    if not graceful:
+        for pid in [*descendants(process.pid), process.pid]:
+            try:
+                os.kill(pid, 9)
+            except ProcessLookupError:
+                pass
+        process.wait()
+        return
     if process.poll() is not None:
         return
     try:
