@@ -48,6 +48,8 @@ class Property(Protocol):
     @property
     def type(self) -> Any: ...
 
+    def stereotype(self, name: str, tags: Mapping[str, Any] | None = ...) -> None: ...
+
 
 class Behavior(Protocol):
     """A pf or pp."""
@@ -65,6 +67,7 @@ class State(Protocol):
     def name(self) -> str | None: ...
 
     def do_activity(self, name: str | None = ..., tc: str | None = ..., ec: str | None = ...) -> Activity: ...
+    def stereotype(self, name: str, tags: Mapping[str, Any] | None = ...) -> None: ...
 
 
 class StateMachine(Protocol):
@@ -91,6 +94,7 @@ class Block(Protocol):
     def state_machine(self) -> StateMachine: ...
     def primitive_predicate(self, name: str, body: str) -> Behavior: ...
     def exclusion(self, name: str, predicates: Sequence[Any] = ..., body: str | None = ...) -> Any: ...
+    def buffer_group(self, name: str, obligatory: Sequence[Property] = ..., optional: Sequence[Property] = ...) -> Any: ...
     def partial_transition_function(self, name: str, reads: Sequence[Any] = ..., writes: Sequence[Any] = ...,
                                     body: str = ...) -> Behavior: ...  # fmt: skip
 
@@ -141,6 +145,11 @@ NO_EMERGENCY = "¬emergencyStop/pp.fun"
 EMERGENCY = "emergencyStop/pp.fun"
 MOTION_TC = "motionFinished/pp.fun ∨ emergencyStop/pp.fun"
 IDLE_TC = "newJointPos/pp.fun ∨ newOperationalPos/pp.fun ∨ emergencyStop/pp.fun"
+COMMAND_QUEUE = 8  # manip/a.cs's manipulatorCommand/ib: task/a's commands, in order
+# every state of manip/a.cs: an iteration per command of task/a (waiting at most 100 ms on
+# entering a state, 20 ms later), at most one per 0.5 ms, so that it catches up when behind
+MANIPULATOR_ACTIVATION = {"bufferGroup": "commands", "minPeriod": "0.0005", "firstTimeout": "0.1",
+                          "nextTimeout": "0.02"}
 
 
 class DataTypes:
@@ -339,6 +348,12 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
         body="// Composes one MotorControllerCommand per joint.",
     )
 
+    # Activation (FABRIC's buffer groups): task/a's commands queue and each one activates an
+    # iteration, so that its one-shot setpoint is read even when manip/a.cs falls behind; the
+    # motor controllers' states are read when new.
+    command.stereotype("InputBuffer", {"receive": "queue", "queueSize": COMMAND_QUEUE})
+    cs.buffer_group("commands", obligatory=[command], optional=[mc_state])
+
     # Table 6 and Fig. 12
     fsm = cs.state_machine()
     idle = fsm.state("idle", initial=True)
@@ -362,6 +377,7 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
         (stop, "false/pp.fun", emergency_stop),
     ):
         st.do_activity(tc=tc, ec="FALSE").stages([[calculate, pf], [output_state, output_motor]])
+        st.stereotype("FsmState", MANIPULATOR_ACTIVATION)
     return cs
 
 
