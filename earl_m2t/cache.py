@@ -1,8 +1,9 @@
 """An on-disk cache for what earl-m2t derives from its own data files (the parsed profile,
 the compiled rule invariants), so a command does not re-parse them on every start.
 
-Entries are keyed by a hash of the source file, the earl-m2t version and the Python version;
-a stale or unreadable entry is rebuilt. The cache lives in ``$XDG_CACHE_HOME/earl-m2t``
+Entries are keyed by a hash of the source file, the earl-m2t version, the Python version and
+the size and modification time of earl-m2t's own modules (so a changed loader in a working copy
+does not read what an older one cached); a stale or unreadable entry is rebuilt. The cache lives in ``$XDG_CACHE_HOME/earl-m2t``
 (``~/.cache/earl-m2t``); ``EARL_M2T_NO_CACHE=1`` turns it off. Failing to write it is not an
 error.
 """
@@ -27,11 +28,27 @@ def cache_dir() -> Path | None:
     return Path(base) / "earl-m2t"
 
 
+def _code_stamp(folder: Path) -> str:
+    """Size and modification time of every module of the package, without reading them."""
+    stamps = []
+    pending = [folder]
+    while pending:
+        with os.scandir(pending.pop()) as entries:
+            for entry in entries:
+                if entry.is_dir(follow_symlinks=False) and entry.name != "__pycache__":
+                    pending.append(Path(entry.path))
+                elif entry.name.endswith(".py"):
+                    status = entry.stat()
+                    stamps.append(f"{entry.path}:{status.st_size}:{status.st_mtime_ns}")
+    return "|".join(sorted(stamps))
+
+
 def _key(source: Path) -> str:
     from earl_m2t import __version__
 
     digest = hashlib.sha256(source.read_bytes())
     digest.update(f"{__version__}|{sys.version_info[:3]}|{pickle.HIGHEST_PROTOCOL}".encode())
+    digest.update(_code_stamp(Path(__file__).parent).encode())
     return digest.hexdigest()[:24]
 
 
