@@ -111,10 +111,8 @@ def _changes(old: Side, new: Side) -> list[Change]:
         changes = [c for c in changes if c.kind != "model"]
     for side in (old, new):
         if side.read_from:
-            folder = side.read_from.rstrip("/") + "/"
-            prefix = side.label.rpartition(":")[0] + ":"
-            changes = [replace(c, where=prefix + c.where.removeprefix(folder)) if c.where.startswith(folder) else c
-                       for c in changes]
+            changes = [replace(c, where=side.shown_as + c.where.removeprefix(side.read_from))
+                       if c.where.startswith(side.read_from) else c for c in changes]
     return changes
 
 

@@ -25,7 +25,8 @@ _MODEL_SUFFIXES = (".uml", ".xmi", ".mdzip", ".xml", ".sysml")
 class Side:
     label: str  # as the user named it
     model: EarlModel | None  # None: no model (an added or deleted file)
-    read_from: str  # the folder the model was read from, when it is not where the label says
+    read_from: str  # the folder the model was read from, when it is not where the label says ...
+    shown_as: str = ""  # ... and how locations in it are shown instead ("git:HEAD:models/")
 
 
 def empty_side(label: str) -> Side:
@@ -46,7 +47,9 @@ def opened(spec: str, dialect: str | None = None) -> Iterator[Side]:
         raise ModelReadError(spec, "expected git:REVISION:PATH (e.g. git:HEAD:models/robot.uml)")
     with tempfile.TemporaryDirectory(prefix="earl-m2t-diff-") as folder:
         file = _checkout(revision, path, Path(folder), spec)
-        yield Side(spec, load(file, dialect).model, folder)
+        parent = str(PurePosixPath(path).parent)
+        shown_as = f"{GIT_PREFIX}{revision}:" + ("" if parent == "." else parent + "/")
+        yield Side(spec, load(file, dialect).model, folder + "/", shown_as)
 
 
 def _git(args: list[str], spec: str) -> bytes:

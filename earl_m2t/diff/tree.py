@@ -135,8 +135,8 @@ def _flatten(name: str, value: Any) -> list[tuple[str, str]]:
 
 def text(value: Any) -> str:
     """A field value as the diff shows it."""
-    if value is None:
-        return "none"
+    if value is None:  # shown as "(none)", like a missing value
+        return ""
     if isinstance(value, Condition):
         return value.text
     if isinstance(value, bool):
