@@ -22,6 +22,7 @@ from earl_m2t.cli import report as report_command
 from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
+from earl_m2t.cli import trace as trace_command
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -44,6 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     report_command.add_parser(commands)
     convert_command.add_parser(commands)
     diff_command.add_parser(commands)
+    trace_command.add_parser(commands)
     return parser
 
 
