@@ -13,6 +13,10 @@ import argparse
 import json
 import re
 import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from earl_m2t.trace.lookup import SourceMaps
 
 _FILE_LINE = re.compile(r"^(?P<file>.+):(?P<line>\d+)$")
 
@@ -41,10 +45,7 @@ def run(args: argparse.Namespace) -> int:
         return 2
 
 
-def _trace_locations(maps: object, locations: list[str], fmt: str) -> int:
-    from earl_m2t.trace.lookup import SourceMaps
-
-    assert isinstance(maps, SourceMaps)
+def _trace_locations(maps: SourceMaps, locations: list[str], fmt: str) -> int:
     parsed = []
     for location in locations:
         match = _FILE_LINE.match(location)
@@ -75,10 +76,9 @@ def _trace_locations(maps: object, locations: list[str], fmt: str) -> int:
     return code
 
 
-def _filter_compiler_output(maps: object) -> int:
-    from earl_m2t.trace.lookup import COMPILER_LINE, SourceMaps
+def _filter_compiler_output(maps: SourceMaps) -> int:
+    from earl_m2t.trace.lookup import COMPILER_LINE
 
-    assert isinstance(maps, SourceMaps)
     for raw in sys.stdin:
         sys.stdout.write(raw)
         match = COMPILER_LINE.match(raw)

@@ -4,7 +4,7 @@ Templates get plain data from the target's view and only format it: ``StrictUnde
 (a missing value is a bug, never an empty string), ``keep_trailing_newline``, and a user
 template folder searched before the built-in one, so any template can be overridden.
 Rendering records which model element each output line comes from
-(:mod:`earl_m2t.gen.tracing`): :func:`render` returns :class:`TracedBytes`.
+(:mod:`earl_m2t.gen.tracing`): :func:`render` returns ``TracedBytes``.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import jinja2
 
 from earl_m2t import resources
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.tracing import TracedBytes, TracingEnvironment, file_element, strip_markers, traced_bytes
+from earl_m2t.gen.tracing import TracingEnvironment, file_element, strip_markers, traced_bytes
 
 
 def target_dir(target: str) -> Path:
@@ -55,7 +55,8 @@ def environment(target: str, user_templates: Path | None = None) -> jinja2.Envir
     )
 
 
-def render(env: jinja2.Environment, template: str, **context: Any) -> TracedBytes:
+def render(env: jinja2.Environment, template: str, **context: Any) -> bytes:
+    """The rendered bytes: a :class:`TracedBytes` that knows the elements of its lines."""
     try:
         return traced_bytes(strip_markers(env.get_template(template).render(**context)), file_element(context))
     except jinja2.TemplateNotFound:
