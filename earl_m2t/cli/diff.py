@@ -74,24 +74,21 @@ def _report(old: Side, new: Side, args: argparse.Namespace) -> int:
     from earl_m2t.diff import formats
 
     changes = _changes(old, new)
-    affected_lines: list[str] = []
+    if not changes:
+        return 0
+    affected = None
     if args.affected is not None:
         from earl_m2t.diff.affected import affected_files
         from earl_m2t.gen import GenError
 
         try:
-            affected = affected_files(old.model, new.model, args.affected, args.target)
+            files = affected_files(old.model, new.model, args.affected, args.target)
         except GenError as error:
             print(f"earl-m2t: diff: --affected: {error}", file=sys.stderr)
             return 2
-        affected_lines = [f"{a.action:<9} {args.affected / a.path}" for a in affected]
-    if changes:
-        sys.stdout.write(formats.render(changes, old.label, new.label, args.format))
-    if affected_lines:
-        if changes and args.format != "json":
-            sys.stdout.write("\n")
-        sys.stdout.write("".join(line + "\n" for line in affected_lines))
-    return 1 if changes else 0
+        affected = formats.Affected(args.affected.as_posix(), args.target, files)
+    sys.stdout.write(formats.render(changes, old.label, new.label, args.format, affected))
+    return 1
 
 
 def _changes(old: Side, new: Side) -> list[Change]:

@@ -3,8 +3,10 @@ output folder, found by rendering both models in memory (nothing is written).
 
 Generated files are compared between the two renderings: rewritten, newly generated, or no
 longer generated (gen keeps such files; it never deletes). User files are compared with
-the folder: created by the next ``gen`` (the new model has them and the folder does not), or
-orphaned (the folder has them, written by earl-m2t, and the new model no longer does).
+the folder: created by the next ``gen`` (only the new model has them and the folder does
+not), or orphaned (only the old model has them, and the folder has them as earl-m2t wrote
+them). The source map (``.earl-trace.json``), which ``gen`` rewrites along with the files it
+maps, is not listed.
 """
 
 from __future__ import annotations
@@ -47,7 +49,7 @@ def affected_files(old: EarlModel | None, new: EarlModel | None, out_dir: Path, 
             found.append(AffectedFile("rewrites", path))
     for path in sorted(set(before.user) | set(after.user)):
         existing = out_dir / path
-        if path in after.user and not existing.exists():
+        if path not in before.user and not existing.exists():
             found.append(AffectedFile("adds", path))
         elif path not in after.user and existing.is_file() and written_by_earl_m2t(existing, USER_FILE_MARKER):
             found.append(AffectedFile("orphans", path))

@@ -6,22 +6,50 @@ from __future__ import annotations
 import difflib
 import json
 from collections import Counter
-from typing import Any
+from dataclasses import dataclass
+from pathlib import PurePosixPath
+from typing import TYPE_CHECKING, Any
 
 from earl_m2t.diff.compare import Change, FieldChange
 from earl_m2t.diff.tree import presentation
+
+if TYPE_CHECKING:  # the generator is imported only when --affected asks for it
+    from earl_m2t.diff.affected import AffectedFile
 
 FORMAT_VERSION = 1
 FORMATS = ("text", "markdown", "json")
 _ORDER = ("renamed", "changed", "added", "removed")
 
 
-def render(changes: list[Change], old_label: str, new_label: str, fmt: str) -> str:
+@dataclass(frozen=True)
+class Affected:
+    """What ``--affected OUT_DIR --target T`` found."""
+
+    out_dir: str
+    target: str
+    files: list[AffectedFile]
+
+
+def render(changes: list[Change], old_label: str, new_label: str, fmt: str, affected: Affected | None = None) -> str:
     if fmt == "json":
-        return to_json(changes, old_label, new_label)
+        return to_json(changes, old_label, new_label, affected)
     if fmt == "markdown":
-        return to_markdown(changes, old_label, new_label)
-    return to_text(changes)
+        return to_markdown(changes, old_label, new_label) + _affected_markdown(affected)
+    return to_text(changes) + _affected_text(affected)
+
+
+def _affected_text(affected: Affected | None) -> str:
+    if affected is None or not affected.files:
+        return ""
+    return "\n" + "".join(f"{a.action:<9} {PurePosixPath(affected.out_dir, a.path)}\n" for a in affected.files)
+
+
+def _affected_markdown(affected: Affected | None) -> str:
+    if affected is None or not affected.files:
+        return ""
+    lines = ["", f"#### Files of {_code(affected.out_dir)} (target {affected.target})", ""]
+    lines += [f"- {a.action} {_code(a.path)}" for a in affected.files]
+    return "\n".join(lines) + "\n"
 
 
 def summary(changes: list[Change]) -> str:
@@ -120,12 +148,15 @@ def to_markdown(changes: list[Change], old_label: str, new_label: str) -> str:
     return "\n".join(out) + "\n"
 
 
-def to_json(changes: list[Change], old_label: str, new_label: str) -> str:
+def to_json(changes: list[Change], old_label: str, new_label: str, affected: Affected | None = None) -> str:
     document: dict[str, Any] = {
         "format": FORMAT_VERSION, "old": old_label, "new": new_label, "equal": not changes,
         "summary": {name: sum(1 for c in changes if c.change == name) for name in _ORDER},
         "changes": [_change_json(c) for c in changes],
     }
+    if affected is not None:
+        document["affected"] = {"out_dir": affected.out_dir, "target": affected.target,
+                                "files": [{"action": a.action, "path": a.path} for a in affected.files]}
     return json.dumps(document, indent=2, ensure_ascii=False) + "\n"
 
 

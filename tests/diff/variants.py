@@ -70,3 +70,9 @@ def resaved(text: str) -> str:
     text = re.sub(r'(?<=["\s])(' + "|".join(re.escape(i) for i in sorted(ids, key=len, reverse=True)) + r')(?=["\s])',
                   lambda m: renamed[m.group(1)], text)
     return "\n".join("  " + line if line[:1].isspace() else line for line in text.split("\n"))
+
+
+def renamed_pf(text: str) -> str:
+    """grip/a.fingerController/ve's regulateFinger/pf renamed to regulateFingers/pf (its call too)."""
+    assert text.count('name="regulateFinger/pf"') == 2
+    return text.replace('name="regulateFinger/pf"', 'name="regulateFingers/pf"')
