@@ -9,7 +9,7 @@ their keys are relative to it.
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from earl_m2t.diff.tree import Node, presentation
 
@@ -31,13 +31,41 @@ class Change:
     where: str  # file:line in the new model (the old one for a removed element)
     fields: tuple[FieldChange, ...] = ()  # changed fields; for an added or removed element, its details
     contents: tuple[tuple[str, int], ...] = ()  # (kind, count) of what an added/removed element holds
+    template_path: str = ""  # see Node.template_path
+    old_template_path: str = ""
+    instances: int = 1  # how many instances of a replicated element change alike (see collapse_replicas)
 
 
 def compare(old: Node, new: Node) -> list[Change]:
-    """Every change, in the new model's order; removed elements after their former siblings."""
+    """Every change, in the new model's order; removed elements after their former siblings.
+    The instances of a replicated element that change alike are one change (their template)."""
     changes: list[Change] = []
     _compare_pair(old, new, changes)
-    return changes
+    return collapse_replicas(changes)
+
+
+def collapse_replicas(changes: list[Change]) -> list[Change]:
+    """Changes that differ only in which instance of a replicated element they concern (a
+    change of a replicated block shows in each of its instances) as one, named by the
+    template path (``manip/a.motorControllerK/ve.fsm.regulate``) with the instance count."""
+    groups: dict[tuple[object, ...], list[Change]] = {}
+    for change in changes:
+        groups.setdefault(_replica_key(change), []).append(change)
+    result: list[Change] = []
+    for change in changes:
+        group = groups[_replica_key(change)]
+        if len(group) == 1:
+            result.append(change)
+        elif group[0] is change:
+            old_path = change.old_template_path if change.old_path else ""
+            result.append(replace(change, path=change.template_path, old_path=old_path, instances=len(group)))
+    return result
+
+
+def _replica_key(change: Change) -> tuple[object, ...]:
+    replicated = change.path != change.template_path
+    return (change.change, change.kind, change.template_path, change.old_template_path, change.fields,
+            change.contents, replicated)
 
 
 def _compare_pair(old: Node, new: Node, changes: list[Change]) -> None:
@@ -45,7 +73,8 @@ def _compare_pair(old: Node, new: Node, changes: list[Change]) -> None:
     renamed = old.path != new.path and old.key != new.key
     if renamed or fields:
         changes.append(Change("renamed" if renamed else "changed", new.kind, new.path, old.path, new.xmi_id,
-                              str(new.location), tuple(fields)))
+                              str(new.location), tuple(fields), template_path=new.template_path,
+                              old_template_path=old.template_path))
     pairs, added, removed = _match(old.children, new.children)
     matched_new = {id(n): o for o, n in pairs}
     added_ids = {id(n) for n in added}
@@ -63,7 +92,8 @@ def _whole(change: str, node: Node) -> Change:
                                 values[name] if change == "added" else "")
                     for name in presentation().details.get(node.cls, ()) if values.get(name))
     return Change(change, node.kind, node.path, node.path if change == "removed" else "", node.xmi_id,
-                  str(node.location), details, _contents(node))
+                  str(node.location), details, _contents(node), node.template_path,
+                  node.template_path if change == "removed" else "")
 
 
 def _contents(node: Node) -> tuple[tuple[str, int], ...]:

@@ -61,10 +61,14 @@ def _shown(value: str) -> str:
     return value if value else "(none)"
 
 
+def _instances(change: Change) -> str:
+    return f" (×{change.instances})" if change.instances > 1 else ""
+
+
 def _headline(change: Change) -> str:
     if change.change == "renamed":
-        return f"{change.kind} {change.old_path} → {change.path}"
-    return f"{change.kind} {change.path}"
+        return f"{change.kind} {change.old_path} → {change.path}{_instances(change)}"
+    return f"{change.kind} {change.path}{_instances(change)}"
 
 
 def _contents(change: Change) -> str:
@@ -128,7 +132,7 @@ def to_markdown(changes: list[Change], old_label: str, new_label: str) -> str:
     long_fields: list[tuple[Change, FieldChange]] = []
     for change in changes:
         element = (f"{change.kind} {_code(change.old_path)} → {_code(change.path)}" if change.change == "renamed"
-                   else f"{change.kind} {_code(change.path)}")
+                   else f"{change.kind} {_code(change.path)}") + _instances(change)
         details: list[str] = []
         for field in change.fields:
             shown, value = _field(change, field)
@@ -162,6 +166,6 @@ def to_json(changes: list[Change], old_label: str, new_label: str, affected: Aff
 
 def _change_json(change: Change) -> dict[str, Any]:
     return {"change": change.change, "kind": change.kind, "path": change.path, "old_path": change.old_path,
-            "xmi_id": change.xmi_id, "where": change.where,
+            "xmi_id": change.xmi_id, "where": change.where, "instances": change.instances,
             "fields": [{"field": f.field, "old": f.old, "new": f.new} for f in change.fields],
             "contents": dict(change.contents)}

@@ -57,6 +57,9 @@ class Node:
     location: Location
     values: tuple[tuple[str, str], ...]  # (field, value as text), compared
     children: tuple[Node, ...]
+    # the path with replicated instances named by their template (manip/a.motorControllerK/ve.fsm),
+    # which the instances of one replicated element share
+    template_path: str = ""
 
     @property
     def value_map(self) -> dict[str, str]:
@@ -64,7 +67,7 @@ class Node:
 
 
 def model_tree(model: EarlModel) -> Node:
-    return _node(model, "", "")
+    return _node(model, "", "", "")
 
 
 def _identity(obj: Any) -> str | None:
@@ -80,7 +83,7 @@ def _is_element(value: Any) -> bool:
             and _identity(value) is not None)
 
 
-def _node(obj: Any, owner_path: str, owner_key_prefix: str) -> Node:
+def _node(obj: Any, owner_path: str, owner_key_prefix: str, owner_template_path: str) -> Node:
     spec = presentation()
     cls = type(obj).__name__
     identity = _identity(obj) or ""
@@ -88,6 +91,10 @@ def _node(obj: Any, owner_path: str, owner_key_prefix: str) -> Node:
         f"{owner_path}.{identity}" if owner_path else identity)
     key = identity.removeprefix(owner_key_prefix) if owner_key_prefix and identity.startswith(owner_key_prefix) \
         else identity
+    template = getattr(obj, "template", "")
+    segment = template if isinstance(template, str) and template and template != key else key
+    template_path = (f"{owner_template_path}.{segment}" if owner_key_prefix and identity.startswith(owner_key_prefix)
+                     else own_path if segment == key else segment)
     kind = spec.kinds.get(cls, cls)
     for field_name, labels in spec.kind_by_field.get(cls, {}).items():
         kind = labels.get(str(getattr(obj, field_name, "")), kind)
@@ -99,13 +106,13 @@ def _node(obj: Any, owner_path: str, owner_key_prefix: str) -> Node:
             continue
         elements = _elements_in(value)
         if elements is not None:
-            children.extend(_node(element, own_path, child_prefix) for element in elements)
+            children.extend(_node(element, own_path, child_prefix, template_path) for element in elements)
         else:
             values.extend(_flatten(name, value))
     location = getattr(obj, "location", None)
     if not isinstance(location, Location):
         location = Location(getattr(obj, "file", "") or "")
-    return Node(cls, kind, key, own_path, location.xmi_id, location, tuple(values), tuple(children))
+    return Node(cls, kind, key, own_path, location.xmi_id, location, tuple(values), tuple(children), template_path)
 
 
 def _fields(obj: Any) -> list[tuple[str, Any]]:

@@ -144,7 +144,7 @@ def test_json_document(tmp_path: Path) -> None:
     rename = document["changes"][1]
     assert rename == {"change": "renamed", "kind": "state", "path": "manip/a.cs.fsm.waiting",
                       "old_path": "manip/a.cs.fsm.idle", "xmi_id": "_rXzUTEyiuXPwTQS62wjGBA",
-                      "where": rename["where"], "fields": [], "contents": {}}
+                      "where": rename["where"], "instances": 1, "fields": [], "contents": {}}
     assert rename["where"].endswith("state.uml:531")
 
 
@@ -183,3 +183,11 @@ added    buffer group manip/a.cs.commands
            obligatory: manipulatorCommand/ib
 """
     assert diff_models(changed, changed) == []
+
+
+def test_a_change_of_a_replicated_block_is_one_change_with_its_instance_count(tmp_path: Path) -> None:
+    assert diff_text(tmp_path, "renamed_replicated_pf") == """\
+changed  basic behaviour manip/a.motorControllerK/ve.regulate/bb (×6)
+           stages: regulateMotor/pf → regulate/pf
+renamed  pf manip/a.motorControllerK/ve.regulateMotor/pf → manip/a.motorControllerK/ve.regulate/pf (×6)
+"""

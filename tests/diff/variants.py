@@ -76,3 +76,9 @@ def renamed_pf(text: str) -> str:
     """grip/a.fingerController/ve's regulateFinger/pf renamed to regulateFingers/pf (its call too)."""
     assert text.count('name="regulateFinger/pf"') == 2
     return text.replace('name="regulateFinger/pf"', 'name="regulateFingers/pf"')
+
+
+def renamed_replicated_pf(text: str) -> str:
+    """regulateMotor/pf of the MotorController block, which manip/a holds six times, renamed to regulate/pf."""
+    assert text.count('name="regulateMotor/pf"') == 2
+    return text.replace('name="regulateMotor/pf"', 'name="regulate/pf"')
