@@ -78,7 +78,8 @@ def test_removed_subsystem_with_what_it_held_and_its_links(tmp_path: Path) -> No
                         "2 memories, 1 FSM, 1 state, 1 basic behaviour, 1 pf, 6 accesses)")
     assert [line for line in lines if line.startswith("removed  link")] == [
         "removed  link grip/a.cs,fingerController/ve", "removed  link grip/a.fingerController/ve,cs",
-        "removed  link grip/a.fingerController/ve,fingerMotor/re", "removed  link grip/a.fingerMotor/re,fingerController/ve"]
+        "removed  link grip/a.fingerController/ve,fingerMotor/re",
+        "removed  link grip/a.fingerMotor/re,fingerController/ve"]
     assert len([line for line in lines if not line.startswith(" ")]) == 5
 
 

@@ -79,13 +79,15 @@ def test_cpp_lines(generated: dict[str, Path], model: EarlModel) -> None:
     assert_traced(out, header, "bool emergencyStop_pp() const", "manip/a.cs.emergencyStop/pp", model)
     assert_traced(out, "generated/include/PickAndPlace/types.hpp", "desiredFingerPos",
                   "DataTypes::GripperCommand.desiredFingerPos", model)
-    assert_traced(out, "generated/include/PickAndPlace/grip_a/agent.hpp", "Channel<::PickAndPlace::types::MotorControllerCommand> link_cs_fingerController_ve;",
+    assert_traced(out, "generated/include/PickAndPlace/grip_a/agent.hpp",
+                  "Channel<::PickAndPlace::types::MotorControllerCommand> link_cs_fingerController_ve;",
                   "grip/a.cs,fingerController/ve", model)
 
 
 def test_ros_lines(generated: dict[str, Path], model: EarlModel) -> None:
     out = generated["ros"]
-    assert_traced(out, "pick_and_place_manip_a/launch/pick_and_place_manip_a.launch", 'from="/manip_a/cs/motor_controller_state1_ib"',
+    assert_traced(out, "pick_and_place_manip_a/launch/pick_and_place_manip_a.launch",
+                  'from="/manip_a/cs/motor_controller_state1_ib"',
                   "manip/a.motorController1/ve,cs", model)
     assert_traced(out, "pick_and_place_manip_a/src/cs_node.cpp", "data.manipulatorCommand_ib.connect(in0_0)",
                   "manip/a.cs.manipulatorCommand/ib", model)

@@ -212,7 +212,8 @@ class _Builder:
                 continue
             member = scope.take(buf.template, "_newData", "_count")
             ports[buf.template] = {
-                "trace": buf.path, "member": member, "direction": buf.direction, "kind": "ib" if buf.direction == "in" else "ob",
+                "trace": buf.path,
+                "member": member, "direction": buf.direction, "kind": "ib" if buf.direction == "in" else "ob",
                 "type": self.cpp_type(buf.datatype, buf.path), "replicated": bool(buf.index), "count": 1,
                 "links": fan.get((sub.block_id, buf.template), 1), "comment": cpp_comment(buf.template),
             }
@@ -466,7 +467,8 @@ class _Builder:
             types.append(buf.datatype)
         if types[0] != types[1]:
             raise GenError(f"{link.path}: the two ends have different dataTypes (rule C006)")
-        return {"trace": link.path, "member": scope.take(f"link {link.name}"), "type": self.cpp_type(types[0], link.path),
+        return {"trace": link.path,
+                "member": scope.take(f"link {link.name}"), "type": self.cpp_type(types[0], link.path),
                 "source": ends[0], "target": ends[1], "comment": cpp_comment(link.name)}
 
     def _port_member(self, sub: Subsystem, buf: Buffer) -> str:

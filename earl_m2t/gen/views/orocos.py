@@ -155,8 +155,9 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     libraries = [{"name": d["library"], "source": d["source"],
                   "types": [d["master_type"]] + [p["type"] for p in d["pfs"]]} for d in definitions]
     project = field_name(model.name or system.name or "model") + target.package_suffix
-    system_data = {"trace": cpp.system["trace"], "model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
+    system_data = {"model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
                    "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"]}
+    system_data["trace"] = cpp.system["trace"]
     return OrocosView(system=system_data, definitions=definitions, instances=instances)
 
 
@@ -215,7 +216,8 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
 
     operations = _Ports(f"{where} master component operations")
     predicates = [{"name": operations.take(p["method"]), "method": p["method"], "text": xml_text(pp.body or pp.name),
-                   "model": xml_text(pp.name), "trace": pp.path} for p, pp in zip(definition["predicates"], sub.predicates)]
+                   "model": xml_text(pp.name), "trace": pp.path}
+                  for p, pp in zip(definition["predicates"], sub.predicates)]
     conditions: list[Data] = []
     behaviours: list[Data] = []
     pf_role = {pf["run"]: pf["role"] for pf in pfs}
@@ -239,7 +241,8 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
     for state in fsm.states:
         leaving = [(t, row) for t, row in zip(transitions, definition["transitions"]) if t.source == state.name]
         leaving.sort(key=lambda pair: -pair[0].priority)  # stable: model order breaks ties
-        states.append({"name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]), "trace": state.path,
+        states.append({"trace": state.path,
+                       "name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]),
                        "next": [{"name": xml_text(t.target), "init_cond": xml_text(t.condition.text if t.condition else "TRUE"),
                                  "priority": t.priority, "operation": row["guard"], "model": xml_text(t.name),
                                  "trace": t.path}

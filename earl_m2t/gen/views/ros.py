@@ -229,14 +229,16 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
             structs.append({"kind": "enum", "cpp": f"::{model_ns}::types::{t['name']}",
                             "msg": f"{msgs.package}::{message['name']}", "trace": t["key"]})
             continue
-        fields = [{"cpp": f["name"], "msg": m["name"], "trace": f["trace"]} for f, m in zip(t["fields"], message["fields"])]
+        fields = [{"cpp": f["name"], "msg": m["name"], "trace": f["trace"]}
+                  for f, m in zip(t["fields"], message["fields"])]
         structs.append({"kind": "struct", "cpp": f"::{model_ns}::types::{t['name']}",
                         "msg": f"{msgs.package}::{message['name']}", "fields": fields,
                         "header": f"{msgs.package}/{message['name']}.h", "trace": t["key"]})
     convert: Data = {"ns": f"{model_ns}_ros", "structs": structs, "model": cpp.system["model"],
                "include": f"{model_ns}/types.hpp",
                "headers": sorted({f"{msgs.package}/{m['name']}.h" for m in msgs.messages})}
-    system_data = {"trace": cpp.system["trace"], "model": cpp.system["model"], "msgs": msgs.package, "messages": [m["name"] for m in msgs.messages],
+    system_data = {"model": cpp.system["model"], "msgs": msgs.package, "messages": [m["name"] for m in msgs.messages],
                    "bringup": bringup, "stem": stem, "agents": packages, "links": links, "period": target.period,
                    "nodes": len(instance_of)}
+    system_data["trace"] = cpp.system["trace"]
     return RosView(system=system_data, packages=packages, nodes=nodes, convert=convert)
