@@ -138,9 +138,10 @@ def test_the_output_is_the_same_on_every_run_and_names_no_graphviz_version(model
 
 def test_gen_writes_the_diagrams(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["gen", str(SAMPLE), "--target", "diagrams", "-o", str(tmp_path)]) == 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(f"{n}.{s}" for n in EXPECTED for s in ("dot", "svg"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        [f"{n}.{s}" for n in EXPECTED for s in ("dot", "svg")] + [".earl-trace.json"])  # + the source map
     assert main(["gen", str(SAMPLE), "--target", "diagrams", "-o", str(tmp_path)]) == 0
-    assert all(line.startswith("unchanged ") for line in capsys.readouterr().out.splitlines()[len(EXPECTED) * 2:])
+    assert all(line.startswith("unchanged ") for line in capsys.readouterr().out.splitlines()[len(EXPECTED) * 2 + 1:])
 
 
 def test_a_template_without_the_generated_marker_is_refused(model: Any, tmp_path: Path) -> None:

@@ -94,7 +94,7 @@ def test_an_unreadable_model_is_one_line(tmp_path: Path, capsys: pytest.CaptureF
 
 def test_the_markdown_target_writes_one_file(tmp_path: Path) -> None:
     assert main(["gen", str(SAMPLE), "--target", "markdown", "-o", str(tmp_path)]) == 0
-    assert [p.name for p in tmp_path.iterdir()] == ["specification.md"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".earl-trace.json", "specification.md"]  # + source map
     text = (tmp_path / "specification.md").read_text()
     assert text.startswith("# PickAndPlace: specification\n")
     assert '<a id="manip-a-cs-fsm-idle-jointMove-t"></a>' in text

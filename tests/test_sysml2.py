@@ -168,7 +168,9 @@ def test_the_sysml_sample_generates_the_same_cpp_project_as_the_papyrus_one(tmp_
     for name, model in (("uml", FILES["papyrus"]), ("sysml", SAMPLE)):
         out = tmp_path / name
         assert main(["gen", str(model), "--target", "cpp", "-o", str(out)]) == 0
-        trees[name] = {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
+        # the source map differs: it names the model file and the lines of its elements
+        trees[name] = {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.rglob("*"))
+                       if p.is_file() and p.name != ".earl-trace.json"}
     assert trees["uml"] and trees["sysml"] == trees["uml"]
 
 

@@ -15,12 +15,14 @@ from typing import NoReturn, Sequence
 from earl_m2t import __version__
 from earl_m2t.cli import check as check_command
 from earl_m2t.cli import convert as convert_command
+from earl_m2t.cli import diff as diff_command
 from earl_m2t.cli import gen as gen_command
 from earl_m2t.cli import profile as profile_command
 from earl_m2t.cli import report as report_command
 from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
+from earl_m2t.cli import trace as trace_command
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -42,6 +44,8 @@ def build_parser() -> argparse.ArgumentParser:
     gen_command.add_parser(commands)
     report_command.add_parser(commands)
     convert_command.add_parser(commands)
+    diff_command.add_parser(commands)
+    trace_command.add_parser(commands)
     return parser
 
 

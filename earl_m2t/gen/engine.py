@@ -3,6 +3,8 @@
 Templates get plain data from the target's view and only format it: ``StrictUndefined``
 (a missing value is a bug, never an empty string), ``keep_trailing_newline``, and a user
 template folder searched before the built-in one, so any template can be overridden.
+Rendering records which model element each output line comes from
+(:mod:`earl_m2t.gen.tracing`): :func:`render` returns ``TracedBytes``.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import jinja2
 
 from earl_m2t import resources
 from earl_m2t.gen.errors import GenError
+from earl_m2t.gen.tracing import TracingEnvironment, file_element, strip_markers, traced_bytes
 
 
 def target_dir(target: str) -> Path:
@@ -42,7 +45,7 @@ def environment(target: str, user_templates: Path | None = None) -> jinja2.Envir
             raise GenError(f"template folder {user_templates} does not exist")
         loaders.append(jinja2.FileSystemLoader(str(user_templates)))
     loaders.append(jinja2.FileSystemLoader(str(target_dir(target) / "templates")))
-    return jinja2.Environment(
+    return TracingEnvironment(
         loader=jinja2.ChoiceLoader(loaders),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
@@ -53,8 +56,9 @@ def environment(target: str, user_templates: Path | None = None) -> jinja2.Envir
 
 
 def render(env: jinja2.Environment, template: str, **context: Any) -> bytes:
+    """The rendered bytes: a :class:`TracedBytes` that knows the elements of its lines."""
     try:
-        return env.get_template(template).render(**context).encode("utf-8")
+        return traced_bytes(strip_markers(env.get_template(template).render(**context)), file_element(context))
     except jinja2.TemplateNotFound:
         raise GenError(f"template {template} is missing") from None
     except jinja2.UndefinedError as error:

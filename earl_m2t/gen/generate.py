@@ -27,6 +27,7 @@ from earl_m2t.gen.views import ros as ros_view
 from earl_m2t.gen.views.cpp import CppTarget, build_view
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.output import WriteReport, write_files, written_by_earl_m2t
+from earl_m2t.trace.sourcemap import with_source_map
 
 __all__ = ["GenError", "GenReport", "MSG_FILE_MARKER", "Rendered", "TARGETS", "USER_FILE_MARKER", "generate",
            "render"]
@@ -219,7 +220,8 @@ def generate(model: EarlModel, out_dir: Path | str, target: str = "cpp",
              templates: Path | None = None, strict: bool = True) -> GenReport:
     """Render and write; user files are created only when missing. Raises GenError, OutputError."""
     rendered = render(model, target, templates, strict)
-    report = write_files(out_dir, rendered.generated, create_only=rendered.user)
+    generated = with_source_map(rendered.generated, rendered.user, model, target, out_dir)
+    report = write_files(out_dir, generated, create_only=rendered.user)
     orphans = find_orphans(Path(out_dir), set(rendered.user))
     if target in ("msg", "ros"):
         orphans = tuple(sorted(orphans + find_stale_messages(Path(out_dir), set(rendered.generated))))

@@ -99,17 +99,19 @@ class _Builder:
             name = self.type_names[key].rpartition("::")[2]
             fields_scope = Scope((name,))
             if datatype.kind == "enumeration":
-                result.append({"kind": "enum", "name": name, "key": key, "comment": cpp_comment(key),
+                result.append({"kind": "enum", "name": name, "key": key, "comment": cpp_comment(key), "trace": key,
                                "literals": [fields_scope.take(lit) for lit in datatype.literals]})
                 continue
             fields = []
             for f in datatype.fields:
                 member = fields_scope.take(f.name)
                 self.field_names[(key, f.name)] = member
-                fields.append({"name": member, "type": self._field_type(f.type, f.lower, f.upper, key, f.name),
+                fields.append({"name": member, "trace": f"{key}.{f.name}",
+                               "type": self._field_type(f.type, f.lower, f.upper, key, f.name),
                                "comment": cpp_comment(f"{f.name}: {f.type or f.type_ref}"
                                                       f"{_multiplicity(f.lower, f.upper)}")})
-            result.append({"kind": "struct", "name": name, "key": key, "comment": cpp_comment(key), "fields": fields})
+            result.append({"kind": "struct", "name": name, "key": key, "comment": cpp_comment(key), "fields": fields,
+                           "trace": key})
         return result
 
     def cpp_type(self, key: str, where: str) -> str:
@@ -156,7 +158,7 @@ class _Builder:
             view.agents.append(self._agent(agent.path, agent_ns[agent.path]))
         members = Scope(("System", "step", "components", "setObserver", "kComponents"))
         agents: list[Data] = [{"member": members.take(a.name), "cls": f"::{self.ns}::{agent_ns[a.path]}::Agent",
-                   "ns": agent_ns[a.path], "path": a.path,
+                   "ns": agent_ns[a.path], "path": a.path, "trace": a.path,
                    "components": len(a.subsystems)} for a in system.agents]
         by_path = {a["path"]: a for a in agents}
         links = []
@@ -166,7 +168,7 @@ class _Builder:
         executables += [{"name": f"{self.ns}_{a['ns']}", "source": f"generated/src/{a['ns']}_main.cpp"}
                         for a in agents]
         view.system = {
-            "ns": self.ns, "model": cpp_comment(self.model.name), "name": cpp_string(system.name),
+            "trace": system.path, "ns": self.ns, "model": cpp_comment(self.model.name), "name": cpp_string(system.name),
             "types": types, "agents": agents, "links": links,
             "components": sum(a["components"] for a in agents),
             "includes": [f"{self.ns}/{a['ns']}/agent.hpp" for a in agents],
@@ -212,6 +214,7 @@ class _Builder:
                 continue
             member = scope.take(buf.template, "_newData", "_count")
             ports[buf.template] = {
+                "trace": buf.path,
                 "member": member, "direction": buf.direction, "kind": "ib" if buf.direction == "in" else "ob",
                 "type": self.cpp_type(buf.datatype, buf.path), "replicated": bool(buf.index), "count": 1,
                 "links": fan.get((sub.block_id, buf.template), 1), "comment": cpp_comment(buf.template),
@@ -229,7 +232,7 @@ class _Builder:
                 memories[stem]["count"] += 1
                 continue
             base = scope.take(stem, "_m", "_mi", "_mo", "_count")
-            memories[stem] = {"member": f"{base}_m", "read": f"{base}_mi", "write": f"{base}_mo",
+            memories[stem] = {"trace": mem.path, "member": f"{base}_m", "read": f"{base}_mi", "write": f"{base}_mo",
                               "count_name": f"{base}_count",
                               "type": self.cpp_type(mem.datatype, mem.path), "replicated": bool(mem.index),
                               "count": 1, "comment": cpp_comment(mem.template)}
@@ -270,13 +273,13 @@ class _Builder:
 
         for pp in sub.predicates:
             ident = pp_ids[pp.name]
-            entry: Data = {"method": ident, "comment": cpp_comment(f"{pp.name} = {pp.body}")}
+            entry: Data = {"method": ident, "comment": cpp_comment(f"{pp.name} = {pp.body}"), "trace": pp.path}
             if pp.fun is not None:
                 entry.update(user=False, expr=compile_condition(pp.fun, False, pp.path))
             else:
                 entry.update(user=True, cls=ident, base=f"{ident}_base", member=f"{ident}_",
                              qualified=f"::{namespace}::{ident}")
-                view.user_pp.append({"agent": agent_ns, "sub": sub_ns, "name": ident, "path": pp.path,
+                view.user_pp.append({"agent": agent_ns, "sub": sub_ns, "name": ident, "path": pp.path, "trace": pp.path,
                                      "namespace": namespace, "cls": ident, "base": f"{ident}_base",
                                      "include": f"{self.ns}/{user_dir}/data.hpp",
                                      "language": cpp_comment(pp.language),
@@ -291,12 +294,12 @@ class _Builder:
             ident = scope.take(pf.name, "_base", "_")
             run = scope.take(f"run_{ident}")
             accessors = self._accessors(pf.reads, pf.writes, paths, mem_paths, ports, memories)
-            entry = {"cls": ident, "base": f"{ident}_base", "member": f"{ident}_", "run": run,
+            entry = {"cls": ident, "base": f"{ident}_base", "member": f"{ident}_", "run": run, "trace": pf.path,
                      "qualified": f"::{namespace}::{ident}", "accessors": accessors,
                      "comment": cpp_comment(pf.name)}
             functions.append(entry)
             pf_ids[pf.name] = entry
-            view.user_pf.append({"agent": agent_ns, "sub": sub_ns, "name": ident, "path": pf.path,
+            view.user_pf.append({"agent": agent_ns, "sub": sub_ns, "name": ident, "path": pf.path, "trace": pf.path,
                                  "namespace": namespace, "cls": ident, "base": f"{ident}_base",
                                  "include": f"{self.ns}/{user_dir}/data.hpp", "accessors": accessors,
                                  "language": cpp_comment(pf.language),
@@ -324,7 +327,7 @@ class _Builder:
             ec = compile_condition(bb.ec, False, f"{bb.path} ec")
             bb_index[bb.name] = len(behaviours)
             behaviours.append({
-                "name": cpp_string(bb.name), "comment": cpp_comment(bb.name),
+                "trace": bb.path, "name": cpp_string(bb.name), "comment": cpp_comment(bb.name),
                 "stages": stages, "stages_table": scope.take(f"stages_{bb_id}") if stages else "",
                 "send": scope.take(f"send_{bb_id}"), "receive": scope.take(f"receive_{bb_id}"),
                 "tc": scope.take(f"tc_{bb_id}"), "ec": scope.take(f"ec_{bb_id}"),
@@ -339,7 +342,8 @@ class _Builder:
         for state in states:
             if len(state.behaviours) != 1 or state.behaviours[0] not in bb_index:
                 raise GenError(f"{state.path}: needs exactly one basic behaviour (rule B002)")
-            state_rows.append({"name": cpp_string(state.name), "behaviour": bb_index[state.behaviours[0]]})
+            state_rows.append({"name": cpp_string(state.name), "behaviour": bb_index[state.behaviours[0]],
+                               "trace": state.path})
         groups, activations = activation_rows(sub, ports, scope)
         transitions = []
         for tr in sorted(fsm.transitions, key=lambda t: t.order):
@@ -347,7 +351,8 @@ class _Builder:
                 raise GenError(f"{tr.path}: source or target is not a state of this FSM (rule B003)")
             guard = scope.take(f"ic_{tr.name}")
             expr = compile_condition(tr.condition, True, tr.path)
-            transitions.append({"name": cpp_string(tr.name), "label": cpp_comment(tr.name), "source": state_index[tr.source],
+            transitions.append({"trace": tr.path, "name": cpp_string(tr.name), "label": cpp_comment(tr.name),
+                                "source": state_index[tr.source],
                                 "target": state_index[tr.target], "priority": tr.priority, "guard": guard,
                                 "expr": expr, "text": cpp_comment(tr.condition.text if tr.condition else "none")})
             behaviours[bb_index[states[state_index[tr.source]].behaviours[0]]]["conditions"].append(tr.path)
@@ -364,7 +369,8 @@ class _Builder:
             row["receives"] = _port_list(ports, [b for b in sub.inputs if b.path in received])
 
         return {
-            "ns": namespace, "agent": agent_ns, "sub": sub_ns, "path": sub.path, "comment": cpp_comment(sub.path),
+            "trace": sub.path, "ns": namespace, "agent": agent_ns, "sub": sub_ns, "path": sub.path,
+            "comment": cpp_comment(sub.path),
             "block": cpp_comment(sub.block), "includes_types": f"{self.ns}/types.hpp",
             "data_include": f"{self.ns}/{user_dir}/data.hpp",
             "user_includes": [f"{user_dir}/{f['cls']}.hpp" for f in functions]
@@ -440,12 +446,13 @@ class _Builder:
             member = members.take(sub.name)
             self.defs[sub.path] = {"member": member}
             definition = self.definitions[sub.block_id]
-            instances.append({"member": member, "path": cpp_string(sub.path),
+            instances.append({"member": member, "path": cpp_string(sub.path), "trace": sub.path,
                               "cls": f"::{definition['ns']}::Subsystem",
                               "include": f"{self.ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp"})
         links = [self._link(link, members, lambda _p: "") for link in agent.links]
         includes = list(dict.fromkeys(i["include"] for i in instances))
-        return {"ns": agent_ns, "path": agent.path, "comment": cpp_comment(agent.path), "instances": instances,
+        return {"trace": agent.path, "ns": agent_ns, "path": agent.path, "comment": cpp_comment(agent.path),
+                "instances": instances,
                 "subsystems": [{"include": i} for i in includes], "links": links, "model_ns": self.ns,
                 "main": {"include": f"{self.ns}/{agent_ns}/agent.hpp", "cls": f"::{self.ns}::{agent_ns}::Agent",
                          "what": cpp_comment(f"agent {agent.path}"), "name": cpp_string(agent.path),
@@ -471,7 +478,8 @@ class _Builder:
         value_type = self.cpp_type(types[0], link.path)
         channel = (f"earl::QueueChannel<{value_type}, {target.queue_size}>"
                    if target is not None and target.receive == "queue" else f"earl::Channel<{value_type}>")
-        return {"member": scope.take(f"link {link.name}"), "type": value_type, "channel": channel,
+        return {"trace": link.path,
+                "member": scope.take(f"link {link.name}"), "type": value_type, "channel": channel,
                 "source": ends[0], "target": ends[1], "comment": cpp_comment(link.name)}
 
     def _port_member(self, sub: Subsystem, buf: Buffer) -> str:

@@ -190,12 +190,12 @@ def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarge
         constants = [{"type": target.enumeration,
                       "name": scope.take(lit, constant_name(lit), f"literal {key}.{lit}", "constant name",
                                          frozenset(), "_VALUE"),
-                      "value": index, "comment": _comment(lit)}
+                      "value": index, "comment": _comment(lit), "trace": key}
                      for index, lit in enumerate(datatype.literals)]
         fields = [{"type": target.enumeration, "name": "value",
                    "comment": f"one of the constants above; a field typed by {name} is a plain "
                               f"{target.enumeration} holding one of them"}]
-        return {"name": name, "key": key, "what": _comment(f"enumeration {key}"),
+        return {"name": name, "key": key, "what": _comment(f"enumeration {key}"), "trace": key,
                 "constants": constants, "fields": fields}
     scope = _Names(problems, fold_case=False, joiner="_")
     fields = []
@@ -203,8 +203,9 @@ def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarge
         ros = scope.take(f.name, field_name(f.name), f"field {key}.{f.name}", "field name",
                          target.reserved_fields, "_field")
         fields.append({"type": _field_type(model, f, names, target, f"field {key}.{f.name}"),
-                       "name": ros, "comment": _field_comment(model, f, names)})
-    return {"name": name, "key": key, "what": _comment(f"dataType {key}"), "constants": [], "fields": fields}
+                       "name": ros, "comment": _field_comment(model, f, names), "trace": f"{key}.{f.name}"})
+    return {"name": name, "key": key, "what": _comment(f"dataType {key}"), "constants": [], "fields": fields,
+            "trace": key}
 
 
 def ros_type(model: EarlModel, key: str, names: dict[str, str], target: MsgTarget, where: str) -> str:

@@ -140,7 +140,7 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                         "period": POLL_PERIOD if entry["event_driven"] else target.period,
                         "priority": target.priority, "scheduler": target.scheduler,
                         "policy": target.policy,
-                        "definition_file": f"../{entry['library']}/subsystem.xml"}
+                        "definition_file": f"../{entry['library']}/subsystem.xml", "trace": sub.path}
             instances.append(instance)
     links: list[Data] = []
     for link in model.links:
@@ -151,7 +151,7 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         queue = target_buffer.queue_size if target_buffer is not None and target_buffer.receive == "queue" else 0
         links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
                       "to": f"{destination[0]}.{destination[1]}", "queue": queue,
-                      "policy": f"queue{queue}" if queue else "links"})
+                      "policy": f"queue{queue}" if queue else "links", "trace": link.path})
     for instance in instances:
         master = instance["name"]
         instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
@@ -166,6 +166,7 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     system_data = {"model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
                    "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
                    "queues": sorted({link["queue"] for link in links if link["queue"]})}
+    system_data["trace"] = cpp.system["trace"]
     return OrocosView(system=system_data, definitions=definitions, instances=instances)
 
 
@@ -197,7 +198,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
                             "direction": buf.direction, "template": buf.template, "index": index,
                             "queue": port.get("queue", 0),
                             "ros": xml_text(ros_message(buf.datatype, buf.path)),
-                            "side": kinds.get(instance_path, "top"), "member": member})
+                            "side": kinds.get(instance_path, "top"), "member": member, "trace": instance_path})
 
     functions = definition["functions"]
     pfs: list[Data] = []
@@ -221,17 +222,18 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
                     "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
                     "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",
-                    "model": cpp_comment(model_pf.name)})
+                    "model": cpp_comment(model_pf.name), "trace": model_pf.path})
 
     operations = _Ports(f"{where} master component operations")
     predicates = [{"name": operations.take(p["method"]), "method": p["method"], "text": xml_text(pp.body or pp.name),
-                   "model": xml_text(pp.name)} for p, pp in zip(definition["predicates"], sub.predicates)]
+                   "model": xml_text(pp.name), "trace": pp.path}
+                  for p, pp in zip(definition["predicates"], sub.predicates)]
     conditions: list[Data] = []
     behaviours: list[Data] = []
     pf_role = {pf["run"]: pf["role"] for pf in pfs}
     for row, bb in zip(definition["behaviours"], sub.behaviours):
-        conditions += [{"name": operations.take(row["tc"]), "method": row["tc"]},
-                       {"name": operations.take(row["ec"]), "method": row["ec"]}]
+        conditions += [{"name": operations.take(row["tc"]), "method": row["tc"], "trace": bb.path},
+                       {"name": operations.take(row["ec"]), "method": row["ec"], "trace": bb.path}]
         group = [name for r in row["receives"] for name, _ in _elements(r["member"], r["replicated"],
                                                                          ports[r["member"]]["count"])]
         behaviours.append({
@@ -239,7 +241,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
             "stop_cond": xml_text(bb.tc.text if bb.tc else "FALSE"), "err_cond": xml_text(bb.ec.text if bb.ec else "FALSE"),
             "stop_operation": row["tc"], "err_operation": row["ec"], "group": group,
             "running": [{"name": pf_role[run], "stage": n} for n, stage in enumerate(row["stages"], start=1)
-                        for run in stage["runs"]],
+                        for run in stage["runs"]], "trace": bb.path,
         })
     fsm = sub.fsm
     assert fsm is not None  # the C++ view refuses an FSM without an initial state
@@ -249,17 +251,19 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
     for state in fsm.states:
         leaving = [(t, row) for t, row in zip(transitions, definition["transitions"]) if t.source == state.name]
         leaving.sort(key=lambda pair: -pair[0].priority)  # stable: model order breaks ties
-        states.append({"name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]),
+        states.append({"trace": state.path,
+                       "name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]),
                        "next": [{"name": xml_text(t.target), "init_cond": xml_text(t.condition.text if t.condition else "TRUE"),
-                                 "priority": t.priority, "operation": row["guard"], "model": xml_text(t.name)}
+                                 "priority": t.priority, "operation": row["guard"], "model": xml_text(t.name),
+                                 "trace": t.path}
                                 for t, row in leaving]})
     for row in definition["transitions"]:
-        conditions.append({"name": operations.take(row["guard"]), "method": row["guard"]})
+        conditions.append({"name": operations.take(row["guard"]), "method": row["guard"], "trace": row["trace"]})
 
     library = f"{definition['agent']}_{definition['sub']}"
     fabric = {"path": xml_text(sub.path), "buffers": buffers, "behaviours": behaviours, "states": states,
               "initial": xml_text(fsm.initial or ""), "predicates": predicates, "period": target.period,
-              "block": xml_text(sub.block)}
+              "block": xml_text(sub.block), "trace": sub.path}
     return {
         "ns": ns, "agent": definition["agent"], "sub": definition["sub"], "path": xml_text(sub.path),
         "definition": cpp_comment(sub.block),
@@ -268,7 +272,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         "data_include": definition["data_include"], "master_type": f"{ns}::orocos::Master",
         "library": library, "source": f"orocos/{definition['agent']}/{definition['sub']}/components.cpp",
         "buffers": buffers, "pfs": pfs, "predicates": predicates, "conditions": conditions,
-        "fabric": fabric, "model": definition["comment"],
+        "fabric": fabric, "model": definition["comment"], "trace": sub.path,
         "event_driven": bool(definition["activations"]), "period_ns": round(target.period * 1e9),
     }
 

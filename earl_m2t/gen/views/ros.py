@@ -117,7 +117,7 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
             raise GenError(f"D004 agent {agent_view['path']}: the package name {package_name} is taken")
         taken_packages.add(package_name)
         entry: Data = {"name": package_name, "ns": namespaces.take(agent_view["ns"], agent_view["path"]),
-                       "path": agent_view["path"],
+                       "path": agent_view["path"], "trace": agent_view["path"],
                  "comment": agent_view["comment"], "nodes": [], "instances": [], "depends": set()}
         packages.append(entry)
         agent_of[agent_view["path"]] = entry
@@ -159,13 +159,13 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                                  # a queued input: roscpp keeps every message (0: no limit) and the
                                  # runtime's queue reports an overflow; roscpp would drop the oldest
                                  "queue": 0 if port.get("queue", 0) else target.queue,
-                                 "template": template, "index": buf.index,
+                                 "template": template, "index": buf.index, "trace": buf.path,
                                  "topics": [topic] if port["links"] == 1 or port["kind"] == "ob"
                                  else [topics.take(f"{topic}_link{k + 1}", buf.path) for k in range(port["links"])]})
         node = {"target": f"{package['name']}_{exe}", "exe": exe, "source": f"src/{exe}.cpp", "package": package["name"],
                 "cls": f"::{definition['ns']}::Subsystem",
                 "include": f"{model_ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp",
-                "path": cpp_string(sub.path), "comment": definition["comment"], "model_ns": model_ns,
+                "path": cpp_string(sub.path), "comment": definition["comment"], "model_ns": model_ns, "trace": sub.path,
                 "headers": sorted(headers), "inputs": [e for e in elements if e["kind"] == "ib"],
                 "outputs": [e for e in elements if e["kind"] == "ob"], "period": target.period,
                 "queue": target.queue, "convert": f"{model_ns}/ros/convert.hpp",
@@ -184,7 +184,7 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
             node = node_of_block[sub.block_id]
             name = node_names.take(instance_view["member"], sub.path)
             instance = {"name": name, "ns": package["ns"], "pkg": node["package"], "type": node["exe"],
-                        "path": sub.path, "remaps": []}
+                        "path": sub.path, "remaps": [], "trace": sub.path}
             if node["package"] != package["name"]:
                 package["depends"].add(node["package"])
             package["instances"].append(instance)
@@ -210,13 +210,14 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         used[link.target] = k + 1
         source = topic_of[link.source]
         remap_from = f"/{instance['ns']}/{instance['name']}/{element['topics'][k]}"
-        instance["remaps"].append({"from": remap_from, "to": source, "link": link.name})
+        instance["remaps"].append({"from": remap_from, "to": source, "link": link.name, "trace": link.path})
         counts[(target_sub.path, element["topics"][k])] = 1
         source_name = source.rpartition("/")[2]
         source_sub = model.subsystem_of(link.source)
         assert source_sub is not None
         counts[(source_sub.path, source_name)] = counts.get((source_sub.path, source_name), 0) + 1
-        links.append({"name": link.name, "source": link.source, "target": link.target, "topic": source})
+        links.append({"name": link.name, "source": link.source, "target": link.target, "topic": source,
+                      "trace": link.path})
     for package in packages:
         package["depends"] = sorted(package["depends"])
     for path, instance in instance_of.items():
@@ -229,16 +230,18 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
             continue
         if t["kind"] == "enum":
             structs.append({"kind": "enum", "cpp": f"::{model_ns}::types::{t['name']}",
-                            "msg": f"{msgs.package}::{message['name']}"})
+                            "msg": f"{msgs.package}::{message['name']}", "trace": t["key"]})
             continue
-        fields = [{"cpp": f["name"], "msg": m["name"]} for f, m in zip(t["fields"], message["fields"])]
+        fields = [{"cpp": f["name"], "msg": m["name"], "trace": f["trace"]}
+                  for f, m in zip(t["fields"], message["fields"])]
         structs.append({"kind": "struct", "cpp": f"::{model_ns}::types::{t['name']}",
                         "msg": f"{msgs.package}::{message['name']}", "fields": fields,
-                        "header": f"{msgs.package}/{message['name']}.h"})
+                        "header": f"{msgs.package}/{message['name']}.h", "trace": t["key"]})
     convert: Data = {"ns": f"{model_ns}_ros", "structs": structs, "model": cpp.system["model"],
                "include": f"{model_ns}/types.hpp",
                "headers": sorted({f"{msgs.package}/{m['name']}.h" for m in msgs.messages})}
     system_data = {"model": cpp.system["model"], "msgs": msgs.package, "messages": [m["name"] for m in msgs.messages],
                    "bringup": bringup, "stem": stem, "agents": packages, "links": links, "period": target.period,
                    "nodes": len(instance_of)}
+    system_data["trace"] = cpp.system["trace"]
     return RosView(system=system_data, packages=packages, nodes=nodes, convert=convert)

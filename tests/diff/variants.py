@@ -1,0 +1,84 @@
+"""Variants of the reference sample, each one edit as a modeller makes it in Papyrus."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SAMPLES = ROOT / "samples" / "pick_and_place"
+SAMPLE = SAMPLES / "pick_and_place.uml"
+
+IDLE_STATE = 'xmi:id="_rXzUTEyiuXPwTQS62wjGBA" name="idle"'
+GUARD = "<body>newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun</body>"
+LINK = re.compile(r' *<ownedConnector xmi:type="uml:Connector" xmi:id="_fW4SsBaHelMyrFWnRP6xWA" '
+                  r'name="cs,fingerController/ve">.*?</ownedConnector>\n', re.S)
+FINGER_CONTROLLER = "_38QkBCImyxlfHYOlvIzb7g"  # the part grip/a.fingerController/ve
+
+
+def sample_text() -> str:
+    return SAMPLE.read_text(encoding="utf-8")
+
+
+def write(folder: Path, name: str, text: str) -> Path:
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def renamed_state(text: str) -> str:
+    assert IDLE_STATE in text
+    return text.replace(IDLE_STATE, IDLE_STATE.replace('"idle"', '"waiting"'))
+
+
+def changed_guard(text: str) -> str:
+    """idle,jointMove/t no longer waits for the emergency stop to be released."""
+    start = text.index('name="idle,jointMove/t"')
+    at = text.index(GUARD, start)
+    return text[:at] + "<body>newJointPos/pp.fun</body>" + text[at + len(GUARD):]
+
+
+def changed_priority(text: str) -> str:
+    """idle,emergencyStop/t (the first with priority 2) gets priority 3."""
+    old = 'base_Transition="_lXeK7HEi-YLOWkH1lRRG-g" priority="2"'
+    assert old in text
+    return text.replace(old, old.replace('"2"', '"3"'))
+
+
+def added_link(text: str) -> str:
+    """A second link from grip/a.cs.fingerCommand/ob to the finger controller, named commandCopy."""
+    match = LINK.search(text)
+    assert match
+    copy = (match.group(0).replace("_fW4SsBaHelMyrFWnRP6xWA", "_commandCopyLink00000000")
+            .replace("_VMYupY3KM6MxwKkK-dbotw", "_commandCopyEnd1").replace("_7BTMmFBR4aOowAUNqQvU4A", "_commandCopyEnd2")
+            .replace('name="cs,fingerController/ve"', 'name="commandCopy"'))
+    return text[:match.end()] + copy + text[match.end():]
+
+
+def removed_subsystem(text: str) -> str:
+    """grip/a.fingerController/ve deleted with its four connectors."""
+    text = re.sub(r' *<ownedConnector [^>]*>(?:(?!</ownedConnector>).)*' + FINGER_CONTROLLER
+                  + r'(?:(?!</ownedConnector>).)*</ownedConnector>\n', "", text, flags=re.S)
+    return re.sub(r' *<ownedAttribute [^>]*name="fingerController/ve"[^>]*/>\n', "", text)
+
+
+def resaved(text: str) -> str:
+    """What a tool's re-save can do: every XMI id new, other indentation; the model is the same.
+    (EA's ids of its language types, ``EAJava_Boolean``, are type names and stay.)"""
+    ids = [i for i in dict.fromkeys(re.findall(r'xmi:id="([^"]+)"', text)) if not i.startswith("EAJava_")]
+    renamed = {old: f"_resaved{n:06d}" for n, old in enumerate(ids)}
+    text = re.sub(r'(?<=["\s])(' + "|".join(re.escape(i) for i in sorted(ids, key=len, reverse=True)) + r')(?=["\s])',
+                  lambda m: renamed[m.group(1)], text)
+    return "\n".join("  " + line if line[:1].isspace() else line for line in text.split("\n"))
+
+
+def renamed_pf(text: str) -> str:
+    """grip/a.fingerController/ve's regulateFinger/pf renamed to regulateFingers/pf (its call too)."""
+    assert text.count('name="regulateFinger/pf"') == 2
+    return text.replace('name="regulateFinger/pf"', 'name="regulateFingers/pf"')
+
+
+def renamed_replicated_pf(text: str) -> str:
+    """regulateMotor/pf of the MotorController block, which manip/a holds six times, renamed to regulate/pf."""
+    assert text.count('name="regulateMotor/pf"') == 2
+    return text.replace('name="regulateMotor/pf"', 'name="regulate/pf"')
