@@ -146,7 +146,9 @@ def test_json_document(tmp_path: Path) -> None:
     assert rename == {"change": "renamed", "kind": "state", "path": "manip/a.cs.fsm.waiting",
                       "old_path": "manip/a.cs.fsm.idle", "xmi_id": "_rXzUTEyiuXPwTQS62wjGBA",
                       "where": rename["where"], "instances": 1, "fields": [], "contents": {}}
-    assert rename["where"].endswith("state.uml:531")
+    text = variant.read_text(encoding="utf-8")
+    line = text.count("\n", 0, text.index('xmi:id="_rXzUTEyiuXPwTQS62wjGBA"')) + 1
+    assert rename["where"].endswith(f"state.uml:{line}")
 
 
 def _with_subsystem(model: EarlModel, path: str, change: object) -> EarlModel:
@@ -159,8 +161,16 @@ def _with_subsystem(model: EarlModel, path: str, change: object) -> EarlModel:
 
 def test_activation_settings_are_compared_field_by_field() -> None:
     """Buffer groups, a state's activation and an input's receive mode, set on the lifted model
-    as the readers set them."""
-    model = load(SAMPLE).model
+    as the readers set them, from the sample with manip/a.cs's own activation taken out."""
+
+    def deactivate(sub: Subsystem) -> Subsystem:
+        fsm = sub.fsm
+        assert fsm is not None
+        states = tuple(replace(s, activation=Activation()) for s in fsm.states)
+        inputs = tuple(replace(b, receive="latest", queue_size=0) for b in sub.inputs)
+        return replace(sub, fsm=replace(fsm, states=states), inputs=inputs, buffer_groups=())
+
+    model = _with_subsystem(load(SAMPLE).model, "manip/a.cs", deactivate)
 
     def activate(sub: Subsystem) -> Subsystem:
         fsm = sub.fsm

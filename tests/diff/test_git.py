@@ -62,7 +62,9 @@ def test_git_revision_side_against_the_working_tree(repo: Path) -> None:
 
 def test_git_side_locations_name_the_revision(repo: Path) -> None:
     result = earl(repo, "diff", "--format", "json", "robot/pick_and_place.uml", "git:HEAD:robot/pick_and_place.uml")
-    assert '"where": "git:HEAD:robot/pick_and_place.uml:458"' in result.stdout
+    text = SAMPLE.read_text(encoding="utf-8")
+    line = text.count("\n", 0, text.index('name="idle,jointMove/t"')) + 1
+    assert f'"where": "git:HEAD:robot/pick_and_place.uml:{line}"' in result.stdout
 
 
 def test_unknown_revision_or_path_exits_2(repo: Path) -> None:
