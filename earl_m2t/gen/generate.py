@@ -196,7 +196,7 @@ def _render_orocos(model: EarlModel, templates: Path | None, strict: bool) -> Re
                  render_template(env, template, system=system, d=definition, f=definition["fabric"]))
     for instance in view.instances:
         for template, pattern in sorted(groups["instance"].items()):
-            _put(generated, pattern.format(instance=instance["name"]),
+            _put(generated, pattern.format(instance=instance["name"], package=instance["package"]),
                  render_template(env, template, system=system, i=instance))
     return _beside_user_files(generated, cpp)
 

@@ -19,8 +19,9 @@ from typing import Any
 from xml.sax.saxutils import escape
 
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.names import cpp_comment, cpp_identifier
+from earl_m2t.gen.names import cpp_comment
 from earl_m2t.gen.views.cpp import CppView
+from earl_m2t.gen.views.fabric import FabricTarget, definition_spec, instance_configuration
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
 from earl_m2t.model.elements import EarlModel, Subsystem
 
@@ -40,6 +41,7 @@ class OrocosTarget:
     policy: str
     package_suffix: str  # <model>_orocos: the CMake project, the deployer's import() package
     std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message (the ROS target's table)
+    fabric: FabricTarget
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any], std_msgs: dict[str, str]) -> OrocosTarget:
@@ -47,7 +49,8 @@ class OrocosTarget:
         return cls(period=float(activity.get("period", 0.01)), priority=int(activity.get("priority", 0)),
                    scheduler=str(activity.get("scheduler", "ORO_SCHED_OTHER")),
                    policy=str(connection.get("policy", "data")),
-                   package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs)
+                   package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs,
+                   fabric=FabricTarget.from_spec(spec["fabric"]))
 
 
 @dataclass
@@ -134,8 +137,7 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                         "type": entry["master_type"],
                         "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
                         "period": target.period, "priority": target.priority, "scheduler": target.scheduler,
-                        "policy": target.policy,
-                        "definition_file": f"../{entry['library']}/subsystem.xml"}
+                        "policy": target.policy, "package": entry["library"], "definition": entry}
             instances.append(instance)
     links: list[Data] = []
     for link in model.links:
@@ -144,6 +146,17 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         source, destination = port_of[link.source], port_of[link.target]
         links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
                       "to": f"{destination[0]}.{destination[1]}"})
+    channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
+    alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i in instances for b in i["buffers"]}
+    for connection in links:
+        if connection["to"] in channels:
+            raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
+                           "this one has several links")
+        channels[connection["to"]] = alias_of[connection["from"]]
+    for instance in instances:
+        definition = instance.pop("definition")
+        instance["fabric"] = instance_configuration(instance, definition["fabric"], definition["pfs"], channels,
+                                                    target.fabric)
     for instance in instances:
         master = instance["name"]
         instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
@@ -211,45 +224,21 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
                     "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
                     "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",
-                    "model": cpp_comment(model_pf.name)})
+                    "model": cpp_comment(model_pf.name), "model_name": model_pf.name})
 
     operations = _Ports(f"{where} master component operations")
     predicates = [{"name": operations.take(p["method"]), "method": p["method"], "text": xml_text(pp.body or pp.name),
                    "model": xml_text(pp.name)} for p, pp in zip(definition["predicates"], sub.predicates)]
     conditions: list[Data] = []
-    behaviours: list[Data] = []
-    pf_role = {pf["run"]: pf["role"] for pf in pfs}
-    for row, bb in zip(definition["behaviours"], sub.behaviours):
+    for row in definition["behaviours"]:
         conditions += [{"name": operations.take(row["tc"]), "method": row["tc"]},
                        {"name": operations.take(row["ec"]), "method": row["ec"]}]
-        group = [name for r in row["receives"] for name, _ in _elements(r["member"], r["replicated"],
-                                                                         ports[r["member"]]["count"])]
-        behaviours.append({
-            "name": xml_text(cpp_identifier(bb.name)), "model": xml_text(bb.name),
-            "stop_cond": xml_text(bb.tc.text if bb.tc else "FALSE"), "err_cond": xml_text(bb.ec.text if bb.ec else "FALSE"),
-            "stop_operation": row["tc"], "err_operation": row["ec"], "group": group,
-            "running": [{"name": pf_role[run], "stage": n} for n, stage in enumerate(row["stages"], start=1)
-                        for run in stage["runs"]],
-        })
-    fsm = sub.fsm
-    assert fsm is not None  # the C++ view refuses an FSM without an initial state
-    transitions = sorted(fsm.transitions, key=lambda t: t.order)
-    bb_of = {bb.name: cpp_identifier(bb.name) for bb in sub.behaviours}
-    states: list[Data] = []
-    for state in fsm.states:
-        leaving = [(t, row) for t, row in zip(transitions, definition["transitions"]) if t.source == state.name]
-        leaving.sort(key=lambda pair: -pair[0].priority)  # stable: model order breaks ties
-        states.append({"name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]),
-                       "next": [{"name": xml_text(t.target), "init_cond": xml_text(t.condition.text if t.condition else "TRUE"),
-                                 "priority": t.priority, "operation": row["guard"], "model": xml_text(t.name)}
-                                for t, row in leaving]})
     for row in definition["transitions"]:
         conditions.append({"name": operations.take(row["guard"]), "method": row["guard"]})
 
     library = f"{definition['agent']}_{definition['sub']}"
-    fabric = {"path": xml_text(sub.path), "buffers": buffers, "behaviours": behaviours, "states": states,
-              "initial": xml_text(fsm.initial or ""), "predicates": predicates, "period": target.period,
-              "block": xml_text(sub.block)}
+    fabric = definition_spec(model, sub, buffers, pfs, target.period, target.fabric)
+    fabric.update(path=xml_text(sub.path), block=xml_text(sub.block))
     return {
         "ns": ns, "agent": definition["agent"], "sub": definition["sub"], "path": xml_text(sub.path),
         "definition": cpp_comment(sub.block),
