@@ -25,7 +25,7 @@ from xml.sax.saxutils import escape
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import _ALWAYS_RESERVED, _keywords, cpp_identifier
 from earl_m2t.model.conditions import ConditionResolver, parse_condition
-from earl_m2t.model.elements import BufferGroup, Condition, EarlModel, State, Subsystem
+from earl_m2t.model.elements import BufferGroup, Condition, DataType, EarlModel, State, Subsystem
 from earl_m2t.predicate import (
     And,
     Const,
@@ -55,13 +55,25 @@ class FabricTarget:
     conn_policy: dict[str, str]  # receive mode -> <conn_policy type>
     master: str
     output_component: str
+    external_suffix: str
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> FabricTarget:
         return cls(reserved=frozenset(spec["reserved"]), operators=tuple(spec["operators"]),
                    default_group=str(spec["default_group"]), used_time=str(spec["used_time"]),
                    conn_policy=dict(spec["conn_policy"]), master=str(spec["master_component"]),
-                   output_component=str(spec["output_component"]))
+                   output_component=str(spec["output_component"]),
+                   external_suffix=str(spec["external_message_package_suffix"]))
+
+    def external_message(self, datatype: DataType | None) -> str | None:
+        """The ROS message a field-less dataType of a ``*_msgs`` package names (``pkg::Msg``, also
+        for ``pkg::pkg_Msg``, as import fabric names a message other packages have too), else None."""
+        if datatype is None or datatype.fields or datatype.kind != "struct":
+            return None
+        package, _, message = datatype.qualified_name.rpartition("::")
+        if "::" in package or not package.endswith(self.external_suffix):
+            return None
+        return f"{package}::{message.removeprefix(package + '_')}"
 
 
 class FabricNames:

@@ -96,6 +96,9 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     msg_names = {m["key"]: m["name"] for m in msgs.messages}
 
     def ros_message(datatype: str, where: str) -> str:
+        external = target.fabric.external_message(model.datatypes.get(datatype))
+        if external is not None:
+            return external
         if datatype in msg_names:
             return f"{msgs.package}::{msg_names[datatype]}"
         ros = ros_type(model, datatype, msg_names, msg_target, where)
