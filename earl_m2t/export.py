@@ -5,10 +5,12 @@ The keys are documented in README.md ("show --format json") and kept stable.
 
 from __future__ import annotations
 
+import math
 from contextvars import ContextVar
 from typing import Any
 
 from earl_m2t.model.elements import (
+    Activation,
     Agent,
     BasicBehaviour,
     Buffer,
@@ -95,6 +97,20 @@ def _buffer(buf: Buffer | Memory) -> dict[str, Any]:
             **_where(buf.location)}
 
 
+def _input(buf: Buffer) -> dict[str, Any]:
+    return {**_buffer(buf), "receive": buf.receive, "queue_size": buf.queue_size if buf.receive == "queue" else None}
+
+
+def _activation(activation: Activation) -> dict[str, Any]:
+    return {"group": activation.group or None, "min_period": _seconds(activation.min_period),
+            "first_timeout": _seconds(activation.first_timeout), "next_timeout": _seconds(activation.next_timeout)}
+
+
+def _seconds(value: float | None) -> float | None:
+    """Seconds as JSON: a value that is not a number (rule B011 reports it) as null."""
+    return None if value is None or math.isnan(value) else value
+
+
 def _subsystem(sub: Subsystem) -> dict[str, Any]:
     return {
         "name": sub.name,
@@ -104,7 +120,7 @@ def _subsystem(sub: Subsystem) -> dict[str, Any]:
         "template": sub.template,
         "recognised_by": sub.recognised_by,
         **_where(sub.location),
-        "inputs": [_buffer(b) for b in sub.inputs],
+        "inputs": [_input(b) for b in sub.inputs],
         "outputs": [_buffer(b) for b in sub.outputs],
         "memory": [_buffer(m) for m in sub.memory],
         "fsm": _fsm(sub.fsm) if sub.fsm is not None else None,
@@ -121,6 +137,8 @@ def _subsystem(sub: Subsystem) -> dict[str, Any]:
             for pp in sub.predicates
         ],
         "exclusions": [{"name": e.name, "predicates": list(e.predicates), **_where(e.location)} for e in sub.exclusions],
+        "buffer_groups": [{"name": g.name, "obligatory": list(g.obligatory), "optional": list(g.optional),
+                           **_where(g.location)} for g in sub.buffer_groups],
     }
 
 
@@ -130,7 +148,7 @@ def _fsm(fsm: Fsm) -> dict[str, Any]:
         "initial": fsm.initial,
         **_where(fsm.location),
         "states": [{"name": s.name, "behaviour": s.behaviours[0] if len(s.behaviours) == 1 else None,
-                    **_where(s.location)} for s in fsm.states],
+                    "activation": _activation(s.activation), **_where(s.location)} for s in fsm.states],
         "transitions": [
             {"name": t.name, "source": t.source, "target": t.target, "condition": _condition(t.condition),
              "priority": t.priority, **_where(t.location)}

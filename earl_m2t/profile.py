@@ -69,6 +69,13 @@ _SCALAR_VALUES = frozenset(
 )
 
 
+def _enum_literal(value: object, type_name: str | None) -> object:
+    """``ReceiveMode::latest`` of a feature typed ReceiveMode is the literal ``latest``."""
+    if isinstance(value, str) and type_name and value.startswith(f"{simple_name(type_name)}::"):
+        return value.rpartition("::")[2]
+    return value
+
+
 class ProfileError(SourceTextError):
     """The profile file cannot be read, does not parse, or is inconsistent."""
 
@@ -367,7 +374,7 @@ class _Builder:
             type=type_name,
             bounds=bounds,
             kind=_feature_kind(usage),
-            default=self.value(usage.value.value, usage) if usage.value else None,
+            default=_enum_literal(self.value(usage.value.value, usage), type_name) if usage.value else None,
             tag=_is_tag(usage),
             redefines=redefines,
         )

@@ -48,6 +48,8 @@ class Property(Protocol):
     @property
     def type(self) -> Any: ...
 
+    def stereotype(self, name: str, tags: Mapping[str, Any] | None = ...) -> None: ...
+
 
 class Behavior(Protocol):
     """A pf or pp."""
@@ -65,6 +67,7 @@ class State(Protocol):
     def name(self) -> str | None: ...
 
     def do_activity(self, name: str | None = ..., tc: str | None = ..., ec: str | None = ...) -> Activity: ...
+    def stereotype(self, name: str, tags: Mapping[str, Any] | None = ...) -> None: ...
 
 
 class StateMachine(Protocol):
@@ -91,6 +94,7 @@ class Block(Protocol):
     def state_machine(self) -> StateMachine: ...
     def primitive_predicate(self, name: str, body: str) -> Behavior: ...
     def exclusion(self, name: str, predicates: Sequence[Any] = ..., body: str | None = ...) -> Any: ...
+    def buffer_group(self, name: str, obligatory: Sequence[Property] = ..., optional: Sequence[Property] = ...) -> Any: ...
     def partial_transition_function(self, name: str, reads: Sequence[Any] = ..., writes: Sequence[Any] = ...,
                                     body: str = ...) -> Behavior: ...  # fmt: skip
 
@@ -141,6 +145,11 @@ NO_EMERGENCY = "¬emergencyStop/pp.fun"
 EMERGENCY = "emergencyStop/pp.fun"
 MOTION_TC = "motionFinished/pp.fun ∨ emergencyStop/pp.fun"
 IDLE_TC = "newJointPos/pp.fun ∨ newOperationalPos/pp.fun ∨ emergencyStop/pp.fun"
+COMMAND_QUEUE = 8  # manip/a.cs's manipulatorCommand/ib: task/a's commands, in order
+# every state of manip/a.cs: wait for the motor controllers (at most 20 ms, 100 ms on entry),
+# never iterate faster than 1 ms
+MANIPULATOR_ACTIVATION = {"bufferGroup": "motors", "minPeriod": "0.001", "firstTimeout": "0.1",
+                          "nextTimeout": "0.02"}
 
 
 class DataTypes:
@@ -339,6 +348,11 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
         body="// Composes one MotorControllerCommand per joint.",
     )
 
+    # Activation (FABRIC's buffer groups): commands queue, so that task/a's one-shot setpoint is
+    # read even when manip/a.cs falls behind; an iteration waits for the motor controllers' states.
+    command.stereotype("InputBuffer", {"receive": "queue", "queueSize": COMMAND_QUEUE})
+    cs.buffer_group("motors", obligatory=[mc_state], optional=[command])
+
     # Table 6 and Fig. 12
     fsm = cs.state_machine()
     idle = fsm.state("idle", initial=True)
@@ -362,6 +376,7 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
         (stop, "false/pp.fun", emergency_stop),
     ):
         st.do_activity(tc=tc, ec="FALSE").stages([[calculate, pf], [output_state, output_motor]])
+        st.stereotype("FsmState", MANIPULATOR_ACTIVATION)
     return cs
 
 

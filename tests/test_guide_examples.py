@@ -39,6 +39,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
         "primitive-predicates.uml", "exclusions.uml", "agent-type.uml", "agent-type-mismatch.uml",
     ),
     "Transition-function stages": ("stages.uml", "stages-conflict.uml"),
+    "Activation: buffer groups, timeouts and receive modes": ("activation.uml",),
     "4. Conditions: the predicate language": (
         "primitive-predicates.uml", "fsm.uml", "replication.uml", "predicate-errors.uml",
     ),
@@ -72,6 +73,10 @@ TABLE_ROWS: dict[str, str] = {
     "Primitive Predicate `pp`": "primitive-predicates.uml",
     "mutually exclusive predicates": "exclusions.uml",
     "declared agent type": "agent-type.uml",
+    # section 3, activation
+    "buffer group": "activation.uml",
+    "state activation": "activation.uml",
+    "receive mode": "activation.uml",
     # section 4
     "primitive predicate": "primitive-predicates.uml",
     "and, or, not": "fsm.uml",
@@ -714,3 +719,16 @@ def test_a_declared_type_that_differs_from_the_computed_one_is_reported_by_s007(
     assert agents["manip/a"] == ("CERT", "CET")
     found = [d for d in check(EXAMPLES / "agent-type-mismatch.uml") if d.code == "S007"]
     assert [(d.severity, d.element) for d in found] == [(Severity.ERROR, "manip/a")]
+
+
+def test_activation_example_lifts_its_group_state_activation_and_queue() -> None:
+    cs = subsystem("activation.uml", "manip/a.cs")
+    (group,) = cs.buffer_groups
+    assert (group.name, group.obligatory, group.optional) == ("drive", ("feedback/ib",), ("command/ib",))
+    command = next(b for b in cs.inputs if b.name == "command/ib")
+    assert (command.receive, command.queue_size) == ("queue", 4)
+    assert cs.fsm is not None
+    for state in cs.fsm.states:
+        activation = state.activation
+        assert (activation.group, activation.min_period, activation.first_timeout, activation.next_timeout) == (
+            "drive", 0.001, 0.1, 0.01)

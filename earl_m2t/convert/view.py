@@ -15,12 +15,15 @@ from typing import Any
 from earl_m2t.convert.names import expression, qualified, quoted
 from earl_m2t.lift.recognise import suffix_of
 from earl_m2t.model.elements import (
+    Activation,
     Agent,
     BasicBehaviour,
+    Buffer,
     Condition,
     DataType,
     EarlModel,
     Link,
+    State,
     Subsystem,
     System,
 )
@@ -157,8 +160,9 @@ class _View:
         for buffers, buffer_concept in ((subsystem.inputs, "InputBuffer"), (subsystem.outputs, "OutputBuffer")):
             for template, group in _grouped(buffers, lambda b: b.template):
                 size = f"[{len(group)}]" if group[0].index else ""
-                message = (f" {{ attribute :>> msg : {self.type_name(group[0].datatype)}; }}"
-                           if group[0].datatype else ";")
+                body = [f"attribute :>> msg : {self.type_name(group[0].datatype)};"] if group[0].datatype else []
+                body += _receive(group[0])
+                message = f" {{ {' '.join(body)} }}" if body else ";"
                 lines.append(f"port {quoted(template)} : {buffer_concept}{size}{message}")
         for template, group in _grouped(subsystem.memory, lambda m: m.template):
             size = f"[{len(group)}]" if group[0].index else ""
@@ -169,6 +173,9 @@ class _View:
             about = ", ".join(quoted(p) for p in exclusion.predicates)
             head = f"metadata {quoted(exclusion.name)} : Exclusive" if exclusion.name else "@Exclusive"
             lines.append(f"{head} about {about};")
+        for buffer_group in subsystem.buffer_groups:
+            lines.append(f"metadata {quoted(buffer_group.name)} : Group {{ obligatory = {_string(buffer_group.obligatory)}; "
+                         f"optional = {_string(buffer_group.optional)}; }}")
         for predicate in subsystem.predicates:
             lines.extend(self.predicate(predicate.name, predicate.language, predicate.body, predicate.fun))
         for function in subsystem.functions:
@@ -191,7 +198,7 @@ class _View:
             for initial in fsm.initial_states:
                 lines.append(f"    entry; then {quoted(initial)};" if initial else "    entry;")
             for state in states:
-                lines.extend("    " + line for line in self.state(subsystem, state.name, state.behaviours, shared))
+                lines.extend("    " + line for line in self.state(subsystem, state, shared))
             for transition in fsm.transitions:
                 lines.extend("    " + line for line in self.transition(transition.name, transition.source,
                                                                           transition.target, transition.condition,
@@ -219,11 +226,12 @@ class _View:
             lines.extend("    " + line for line in _representation(language, body))
         return lines + ["}"]
 
-    def state(self, subsystem: Subsystem, name: str, behaviours: tuple[str, ...], shared: set[str]) -> list[str]:
-        if not behaviours:
-            return [f"state {quoted(name)};"]
-        lines = [f"state {quoted(name)} {{"]
-        for behaviour_name in behaviours:
+    def state(self, subsystem: Subsystem, state: State, shared: set[str]) -> list[str]:
+        activation = _activation(state.activation)
+        if not state.behaviours and not activation:
+            return [f"state {quoted(state.name)};"]
+        lines = [f"state {quoted(state.name)} {{"] + [f"    {line}" for line in activation]
+        for behaviour_name in state.behaviours:
             behaviour = subsystem.behaviour(behaviour_name)
             if behaviour is None or behaviour_name in shared:
                 lines.append(f"    do action : {quoted(behaviour_name)};")
@@ -339,3 +347,24 @@ def _representation(language: str, body: str) -> list[str]:
     if len(lines) == 1:
         return [f'language "{escaped}" /* {text} */']
     return [f'language "{escaped}"', "/*"] + [f" * {line}".rstrip() for line in lines] + [" */"]
+
+
+def _string(names: tuple[str, ...]) -> str:
+    return '"' + " ".join(names) + '"'
+
+
+def _receive(buffer: Buffer) -> list[str]:
+    """``@Receive { … }`` of an Input Buffer that does not keep EARL's latest value."""
+    if buffer.direction != "in" or (buffer.receive == "latest" and not buffer.queue_size):
+        return []
+    return [f"@Receive {{ receive = ReceiveMode::{buffer.receive}; queueSize = {buffer.queue_size}; }}"]
+
+
+def _activation(activation: Activation) -> list[str]:
+    """``@Activation { … }`` of a state that says when its subsystem iterates."""
+    tags = [f'bufferGroup = "{activation.group}";'] if activation.group else []
+    for tag, value in (("minPeriod", activation.min_period), ("firstTimeout", activation.first_timeout),
+                       ("nextTimeout", activation.next_timeout)):
+        if value is not None:
+            tags.append(f"{tag} = {value!r};")
+    return [f"@Activation {{ {' '.join(tags)} }}"] if tags else []

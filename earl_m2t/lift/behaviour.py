@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from earl_m2t.lift.activation import activation_of
 from earl_m2t.lift.recognise import Recogniser, suffix_of
 from earl_m2t.model.elements import (
     Access,
@@ -194,7 +195,8 @@ class BehaviourLifter:
         for name, vertex in vertices.values():
             bbs = self._state_behaviours(vertex, name)
             behaviours.extend(bbs)
-            states.append(State(name, f"{fsm_path}.{name}", tuple(b.name for b in bbs), raw.location(vertex)))
+            states.append(State(name, f"{fsm_path}.{name}", tuple(b.name for b in bbs), raw.location(vertex),
+                                activation_of(self.ctx.recogniser.tags(vertex))))
         initial_ids = {id(p) for p in initial_pseudostates}
         initial_states: list[str] = []
         left_initials: set[int] = set()

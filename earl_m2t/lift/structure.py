@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from earl_m2t.diagnostics import Diagnostic, Severity
+from earl_m2t.lift.activation import buffer_groups, receive_of
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser, Recognition
@@ -206,9 +207,10 @@ class StructureLifter:
                 direction = "in" if concept == "InputBuffer" else "out"
                 datatype, unresolved = self.types.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
+                receive, queue_size = receive_of(raw, self.recogniser.tags(attr)) if direction == "in" else ("latest", 0)
                 buffers = [
                     Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
-                           recognition.route, unresolved)
+                           recognition.route, unresolved, receive, queue_size)
                     for inst, k in expand(attr_name, instance_count(lower, upper))
                 ]
                 ports[id(attr)] = buffers
@@ -246,6 +248,7 @@ class StructureLifter:
             name, path, kind, agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,
             tuple(inputs), tuple(outputs), tuple(memory), fsm, tuple(unique), lifter.functions(block),
             lifter.predicates(block), lifter.exclusions(block), len(machines), raw.location(part), route,
+            buffer_groups(raw, self.recogniser, block, path),
         )
         self._templates[path] = (raw.name(part), name)
         return _SubsystemInstance(subsystem, part, ports)

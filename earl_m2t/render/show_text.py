@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from itertools import groupby
 
-from earl_m2t.model.elements import DataType, EarlModel, Link, Subsystem
+from earl_m2t.model.elements import Activation, Buffer, DataType, EarlModel, Link, Subsystem
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:
@@ -50,7 +50,7 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
     out = [f"    {sub.kind} {name} [{sub.block}]"]
     ind = "      "
     for buf in _unique_templates(sub.inputs):
-        out.append(f"{ind}ib {buf.template}{_count(sub.inputs, buf.template)} : {buf.datatype or '?'}")
+        out.append(f"{ind}ib {buf.template}{_count(sub.inputs, buf.template)} : {buf.datatype or '?'}{_receive(buf)}")
     for buf in _unique_templates(sub.outputs):
         out.append(f"{ind}ob {buf.template}{_count(sub.outputs, buf.template)} : {buf.datatype or '?'}")
     for mem in _unique_templates(sub.memory):
@@ -59,7 +59,8 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
         fsm = sub.fsm
         out.append(f"{ind}fsm {fsm.name}  initial {fsm.initial or '?'}")
         for state in fsm.states:
-            out.append(f"{ind}  state {state.name} → {', '.join(state.behaviours) or '(no behaviour)'}")
+            out.append(f"{ind}  state {state.name} → {', '.join(state.behaviours) or '(no behaviour)'}"
+                       f"{_activation(state.activation)}")
         for tr in fsm.transitions:
             condition = tr.condition.text if tr.condition is not None else "TRUE"
             priority = f"  priority {tr.priority}" if tr.priority else ""
@@ -79,7 +80,31 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
         out.append(f"{ind}pp {pp.name} = {body}")
     for exclusion in sub.exclusions:
         out.append(f"{ind}exclusive {', '.join(exclusion.predicates)}")
+    for group in sub.buffer_groups:
+        out.append(f"{ind}buffer group {group.name}: obligatory {', '.join(group.obligatory) or '-'}"
+                   f"  optional {', '.join(group.optional) or '-'}")
     return out
+
+
+def _receive(buffer: Buffer) -> str:
+    """How an Input Buffer receives, when not EARL's default (the latest value)."""
+    if buffer.receive == "queue":
+        return f"  receive queue of {buffer.queue_size}"
+    return "" if buffer.receive == "latest" else f"  receive {buffer.receive}"
+
+
+def seconds(value: float) -> str:
+    return f"{value:g} s"
+
+
+def _activation(activation: Activation) -> str:
+    """``  [group command, min period 0.001 s, …]``; nothing for the default (own period)."""
+    parts = [f"group {activation.group}"] if activation.group else []
+    for label, value in (("min period", activation.min_period), ("first timeout", activation.first_timeout),
+                         ("next timeout", activation.next_timeout)):
+        if value is not None:
+            parts.append(f"{label} {seconds(value)}")
+    return f"  [{', '.join(parts)}]" if parts else ""
 
 
 def _unique_templates(items):

@@ -1,6 +1,7 @@
 """The behaviours a subsystem's ``part def`` owns: ``action def`` (a partial transition
 function, or a shared basic behaviour ``/bb``), ``calc def`` / ``constraint def`` (a primitive
-predicate) and ``metadata … : Exclusive about …`` (exclusive predicates)."""
+predicate), ``metadata … : Exclusive about …`` (exclusive predicates) and ``metadata name :
+Group { obligatory = …; optional = …; }`` (a buffer group)."""
 
 from __future__ import annotations
 
@@ -9,11 +10,12 @@ from typing import Any
 from earl_m2t.sysml2.fsm import Later, activity_step
 from earl_m2t.sysml2.parser import identification, location, members, rule, simple_name
 from earl_m2t.sysml2.scope import Resolved, Scope
-from earl_m2t.sysml2.texts import PREDICATE_LANGUAGE, representation, result_expression
+from earl_m2t.sysml2.texts import PREDICATE_LANGUAGE, metadata_tags, representation, result_expression
 from earl_m2t.sysml2.uml import ID, Block, UmlWriter
 
 BASIC_BEHAVIOUR = "BasicBehaviour"
 EXCLUSION = "Exclusion"
+BUFFER_GROUP = "BufferGroup"
 
 
 class BehaviourWriter:
@@ -75,3 +77,11 @@ class BehaviourWriter:
             constraint.set("constrainedElement", " ".join(t for t in targets if t))
 
         self.later.append(constrain)
+
+    def buffer_group(self, block: Block, node: Any) -> None:
+        """``metadata command : Group { obligatory = "a/ib"; optional = "b/ib"; }``: a Constraint
+        of the block stereotyped «BufferGroup» with those tags."""
+        if self.scope.metadata_concept(node.type) != BUFFER_GROUP:
+            return
+        constraint = self.uml.child(block.element, "ownedRule", "Constraint", node, identification(node)[1] or "")
+        self.uml.apply(constraint, BUFFER_GROUP, metadata_tags(node), location(node)[0])

@@ -4,7 +4,7 @@
 its basic behaviour, inline or by reference (``do 'shared/bb';``, ``do action : 'shared/bb';``)
 to an ``action def`` of the subsystem; ``transition name first S if guard then T { … }``
 is a transition, its guard the initial condition, ``@Priority { priority = n; }`` in its
-body its priority.
+body its priority; ``@Activation { bufferGroup = …; }`` in a state's body its activation.
 """
 
 from __future__ import annotations
@@ -53,6 +53,7 @@ class FsmWriter:
                 self.transition(region, member, states)
             elif kind == "Usage" and member.kind == "state":
                 self.state_behaviour(block, states.get(identification(member)[1] or ""), member)
+                self.state_activation(states.get(identification(member)[1] or ""), member)
             after_entry = kind == "EntryAction"
 
     def initial(self, region: Element, member: Any, states: dict[str, Element]) -> None:
@@ -76,6 +77,14 @@ class FsmWriter:
             constraint = self.uml.constraint(transition, "ic", condition, node)
             transition.set("guard", constraint.get(ID) or "")
         self.uml.annotations(transition, node)
+
+    def state_activation(self, state: Element | None, node: Any) -> None:
+        """``@Activation { bufferGroup = "command"; minPeriod = 0.001; … }`` in a state's body."""
+        if state is None:
+            return
+        for member in members(node):
+            if rule(member) == "MetadataUsage" and not member.about:
+                self.uml.metadata(state, member)
 
     def state_behaviour(self, block: Block, state: Element | None, node: Any) -> None:
         if state is None:

@@ -165,6 +165,8 @@ class _Builder:
             self._block_usage(block, member)
         elif kind == "MetadataUsage" and member.about:
             self.behaviours.exclusion(block, member)
+        elif kind == "MetadataUsage":
+            self.behaviours.buffer_group(block, member)
         elif kind in ("ConnectorUsage", "FlowUsage"):
             self.later.append(lambda: self._connector(block, member))
 

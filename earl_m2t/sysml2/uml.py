@@ -14,7 +14,7 @@ from lxml import etree
 
 from earl_m2t.read.xmi import Element, StereotypeApplication
 from earl_m2t.sysml2.parser import location, members, multiplicity, rule
-from earl_m2t.sysml2.scope import Resolved, Scope
+from earl_m2t.sysml2.scope import OWNED_METADATA_CONCEPTS, Resolved, Scope
 from earl_m2t.sysml2.texts import ConditionText, metadata_tags, representation_text
 
 XMI_NS = "http://www.omg.org/spec/XMI/20131001"
@@ -130,11 +130,16 @@ class UmlWriter:
         for member in members(node):
             kind = rule(member)
             if kind == "MetadataUsage" and not member.about:
-                concept = self.scope.metadata_concept(member.type)
-                if concept:
-                    self.apply(element, concept, metadata_tags(member), location(member)[0])
+                self.metadata(element, member)
             elif kind in ("Documentation", "CommentElement"):
                 self.comment(element, member)
+
+    def metadata(self, element: Element, member: Any) -> None:
+        """``@X { tag = v; }`` on ``element``: the stereotype X applies, with those tags (metadata
+        that stands for an element of its own, such as a buffer group, is written elsewhere)."""
+        concept = self.scope.metadata_concept(member.type)
+        if concept and concept not in OWNED_METADATA_CONCEPTS:
+            self.apply(element, concept, metadata_tags(member), location(member)[0])
 
     def nested_end(self, end: Element, path: list[str]) -> None:
         """SysML «NestedConnectorEnd» with the property path from the connector's owner."""

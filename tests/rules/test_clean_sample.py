@@ -22,8 +22,9 @@ from earl_m2t.export import model_to_dict
 
 # Keys of the JSON export that depend on how an element was recognised or where it is.
 UNCOMPARED = frozenset({"recognised_by", "line", "xmi_id"})
-# Tagged values of the EARL stereotypes (modelling guide, section 1: only route 1 carries them).
-TAGGED = frozenset({"declared_type", "priority"})
+# Tagged values of the EARL stereotypes (modelling guide, section 1: only route 1 carries them),
+# the activation among them: buffer groups are «BufferGroup» constraints.
+TAGGED = frozenset({"declared_type", "priority", "receive", "queue_size", "activation", "buffer_groups"})
 
 
 def _normalised(data: Any, drop: frozenset[str]) -> Any:
@@ -74,16 +75,18 @@ def test_suffix_only_variant_carries_no_earl_stereotype(suffix_only: Path) -> No
 
 
 def test_suffix_only_variant_checks_clean(suffix_only: Path) -> None:
-    """Clean but for the priorities it cannot carry: without them the self-transitions of
+    """Clean but for the tags it cannot carry: without the priorities the self-transitions of
     jointMove and operationalMove tie with the transitions back to idle (B006; model order
-    still picks the self-transition, as the priorities do in the sample)."""
+    still picks the self-transition, as the priorities do in the sample); without the receive
+    mode task/a's one-shot setpoint goes to a latest-value input (C009)."""
     findings = check(suffix_only)
     described = "\n".join(f"{d.code} {d.location}: {d.message}" for d in findings)
     assert [(d.code, d.element) for d in findings] == [
+        ("C009", "manip/a.cs.manipulatorCommand/ib"),
         ("B006", "manip/a.cs.fsm.jointMove,jointMove/t"),
         ("B006", "manip/a.cs.fsm.operationalMove,operationalMove/t"),
     ], described
-    assert check(suffix_only, CheckOptions(ignore=frozenset({"B006"}))) == [], described
+    assert check(suffix_only, CheckOptions(ignore=frozenset({"B006", "C009"}))) == [], described
 
 
 def test_suffix_only_variant_is_recognised_by_suffix(sample_path: Path, suffix_only: Path) -> None:
@@ -103,6 +106,9 @@ def test_suffix_only_variant_has_only_default_tagged_values(sample_path: Path, s
     assert set(_values(twin, "declared_type")) == {None}
     assert set(_values(sample, "priority")) == {0, 1, 2}
     assert set(_values(twin, "priority")) == {0}
+    assert set(_values(sample, "receive")) == {"latest", "queue"}
+    assert set(_values(twin, "receive")) == {"latest"}
+    assert _values(twin, "buffer_groups") and not any(_values(twin, "buffer_groups"))
     # everything else the tags sit next to is the same
     assert _normalised(twin, UNCOMPARED | TAGGED) == _normalised(sample, UNCOMPARED | TAGGED)
     assert len(_values(twin, "priority")) == len(_values(sample, "priority"))

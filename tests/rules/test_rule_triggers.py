@@ -691,6 +691,68 @@ def empty_terminal_condition(s: Sample) -> Expect:
     return Expect(s.id(tc), "supervise/bb")
 
 
+# ---- activation: buffer groups, state activation, receive modes ------------------------------
+
+
+def _buffer_group(s: Sample) -> etree._Element:
+    """The constraint of ManipulatorControl stereotyped «BufferGroup» (the group ``motors``)."""
+    return s._find(s.block("ManipulatorControl"), 'ownedRule[@name="motors"]', "buffer group motors")
+
+
+def buffer_group_names_unknown_buffer(s: Sample) -> Expect:
+    """B009: the group motors names the obligatory buffer motorStateK/ib, which ManipulatorControl
+    does not have (its Input Buffer is motorControllerStateK/ib)."""
+    group = _buffer_group(s)
+    s.application("BufferGroup", group).set("obligatory", "motorStateK/ib")
+    return Expect(s.id(group), "motorStateK/ib")
+
+
+def buffer_group_names_output_buffer(s: Sample) -> Expect:
+    """B009: the group motors names the Output Buffer manipulatorState/ob as optional."""
+    group = _buffer_group(s)
+    s.application("BufferGroup", group).set("optional", "manipulatorCommand/ib manipulatorState/ob")
+    return Expect(s.id(group), "manipulatorState/ob")
+
+
+def state_without_buffer_group(s: Sample) -> Expect:
+    """B010: the state operationalMove of ManipulatorControl loses its tag bufferGroup while the
+    subsystem is activated by the group motors."""
+    state = s.state("ManipulatorControl", "operationalMove")
+    del s.application("FsmState", state).attrib["bufferGroup"]
+    return Expect(s.id(state), "operationalMove")
+
+
+def state_names_unknown_buffer_group(s: Sample) -> Expect:
+    """B010: the state idle of ManipulatorControl names the buffer group 'motor', a typo of motors."""
+    state = s.state("ManipulatorControl", "idle")
+    s.application("FsmState", state).set("bufferGroup", "motor")
+    return Expect(s.id(state), "'motor'")
+
+
+def queue_of_no_value(s: Sample) -> Expect:
+    """B011: ManipulatorControl's manipulatorCommand/ib receives a queue of 0 values."""
+    port = s.attribute("ManipulatorControl", "manipulatorCommand/ib")
+    s.application("InputBuffer", port).set("queueSize", "0")
+    return Expect(s.id(port), "manipulatorCommand/ib")
+
+
+def negative_timeout(s: Sample) -> Expect:
+    """B011: the state jointMove of ManipulatorControl waits -0.02 s for its obligatory inputs."""
+    state = s.state("ManipulatorControl", "jointMove")
+    s.application("FsmState", state).set("nextTimeout", "-0.02")
+    return Expect(s.id(state), "nextTimeout")
+
+
+def one_shot_command_into_latest_value(s: Sample) -> Expect:
+    """C009: ManipulatorControl's manipulatorCommand/ib receives the latest value again (the
+    sample's tags receive = queue removed), while newJointPos/pp tests newData() on it."""
+    port = s.attribute("ManipulatorControl", "manipulatorCommand/ib")
+    app = s.application("InputBuffer", port)
+    for tag in ("receive", "queueSize"):
+        del app.attrib[tag]
+    return Expect(s.id(port), "manipulatorCommand/ib")
+
+
 # ---- T: transition functions ------------------------------------------------------------
 
 
@@ -978,6 +1040,7 @@ VARIANTS: dict[str, Mutation] = {
     "C006": link_datatype_mismatch,
     "C007": input_buffer_unfed,
     "C008": link_name_convention,
+    "C009": one_shot_command_into_latest_value,
     "B001": fsm_without_initial_state,
     "B001-initial-leads-nowhere": initial_pseudostate_leads_nowhere,
     "B001-two-initial": fsm_with_two_initial_states,
@@ -994,6 +1057,12 @@ VARIANTS: dict[str, Mutation] = {
     "B007-no-exit": state_without_exit,
     "B008": guard_syntax_error,
     "B008-empty-tc": empty_terminal_condition,
+    "B009": buffer_group_names_unknown_buffer,
+    "B009-output": buffer_group_names_output_buffer,
+    "B010": state_without_buffer_group,
+    "B010-unknown-group": state_names_unknown_buffer_group,
+    "B011": queue_of_no_value,
+    "B011-negative-timeout": negative_timeout,
     "T001": stage_memory_write_conflict,
     "T002": stage_output_write_conflict,
     "T003": pf_reads_foreign_buffer,

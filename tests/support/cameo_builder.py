@@ -467,6 +467,14 @@ class Block(Element):
             rule.stereotype("Exclusion")
         return rule
 
+    def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:
+        """A «BufferGroup» constraint whose tags name the obligatory and optional Input Buffers."""
+        rule = Constraint(self.builder, self, name, None)
+        self.rules.append(rule)
+        rule.stereotype("BufferGroup", {"obligatory": " ".join(p.name or "" for p in obligatory),
+                                        "optional": " ".join(p.name or "" for p in optional)})
+        return rule
+
 
 class Pseudostate(Element):
     """The initial pseudostate of a region."""
@@ -707,6 +715,10 @@ class BaseModelBuilder:
         rendered = tuple(
             (k, ("true" if v else "false") if isinstance(v, bool) else str(v)) for k, v in (tags or {}).items()
         )
+        for i, applied in enumerate(element.applied):
+            if applied.name == stereotype:  # applied already: add the tags
+                element.applied[i] = Applied(stereotype, (*applied.tags, *rendered))
+                return
         element.applied.append(Applied(stereotype, rendered))
 
     def to_bytes(self) -> bytes:  # pragma: no cover - every dialect overrides
@@ -849,7 +861,9 @@ _MD_STEREOTYPES: dict[str, tuple[str, str, tuple[tuple[str, str, str], ...]]] = 
 # The EARL profile, in a used project ("EARL Profile.mdzip").
 _EARL_PROJECT_ID = str(uuid.UUID(hashlib.sha256(b"EARL Profile.mdzip").hexdigest()[:32], version=4))
 _EARL_PROJECT = f"local:/PROJECT-{_EARL_PROJECT_ID}{_SHARED}"
-_EARL_TAGS = {"Agent": ("declaredType",), "FsmTransition": ("priority",)}
+_EARL_TAGS = {"Agent": ("declaredType",), "FsmTransition": ("priority",), "InputBuffer": ("receive", "queueSize"),
+              "FsmState": ("bufferGroup", "minPeriod", "firstTimeout", "nextTimeout"),
+              "BufferGroup": ("obligatory", "optional")}
 
 _USER = hashlib.sha256(b"earl-m2t sample").hexdigest()[:7]  # MagicDraw's per-installation id part
 _EPOCH_MS = 1_717_200_000_000  # 2024-06-01: ids carry creation times after this

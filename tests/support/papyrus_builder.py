@@ -42,7 +42,7 @@ from __future__ import annotations
 import base64
 import hashlib
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import Enum
 from pathlib import Path
 from typing import TypeVar, Union
@@ -131,6 +131,7 @@ EARL_STEREOTYPES: Mapping[str, str] = {
     "Predicate": "Constraint",
     "PrimitivePredicate": "Behavior",
     "Exclusion": "Constraint",
+    "BufferGroup": "Constraint",
 }
 
 # Blocks of the EARL *Model* package used by the generalisation route.
@@ -806,6 +807,15 @@ class Block(Element):
             rule.stereotype("Exclusion")
         return rule
 
+    def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:
+        """A «BufferGroup» constraint: the Input Buffers an iteration waits for and those it reads
+        when new (tags holding the buffer names)."""
+        rule = Constraint(self.builder, self, name, None)
+        self.rules.append(rule)
+        rule.stereotype("BufferGroup", {"obligatory": " ".join(p.name or "" for p in obligatory),
+                                        "optional": " ".join(p.name or "" for p in optional)})
+        return rule
+
     def _render(self, tag: str) -> _Node:
         cb = self.classifier_behavior
         node = _typed(tag, self.xmi_type, self.id, ("name", self.name), ("classifierBehavior", cb.id if cb else None))
@@ -1170,6 +1180,11 @@ class ModelBuilder:
             raise ValueError(f"unknown EARL stereotype {stereotype!r}")
         if not self.stereotypes:
             return
+        for i, app in enumerate(self._applications):
+            if app.base_id == element.id and app.prefix == "EARL" and app.name == stereotype:  # applied: add the tags
+                added = tuple((k, ("true" if v else "false") if isinstance(v, bool) else str(v)) for k, v in (tags or {}).items())
+                self._applications[i] = replace(app, tags=(*app.tags, *added))
+                return
         self._apply(element, "EARL", stereotype, f"base_{EARL_STEREOTYPES[stereotype]}", tags)
 
     # -- output

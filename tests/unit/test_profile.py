@@ -157,9 +157,18 @@ def test_agent_has_an_optional_declared_type_tag_typed_by_agent_type(profile: Pr
     assert (tag.name, tag.type, tag.lower, tag.upper) == ("declaredType", "AgentType", 0, 1)
 
 
-def test_only_priority_and_declared_type_are_tags(profile: Profile) -> None:
+def test_the_tags_are_priority_declared_type_and_activation(profile: Profile) -> None:
     tagged = {(c.name, f.name) for c in profile.concepts.values() for f in c.features if f.tag}
-    assert tagged == {("Agent", "declaredType"), ("FsmTransition", "priority")}
+    assert tagged == {("Agent", "declaredType"), ("FsmTransition", "priority"),
+                      ("InputBuffer", "receive"), ("InputBuffer", "queueSize"),
+                      ("FsmState", "bufferGroup"), ("FsmState", "minPeriod"), ("FsmState", "firstTimeout"),
+                      ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional")}
+
+
+def test_receive_mode_defaults_to_the_latest_value(profile: Profile) -> None:
+    receive = next(f for f in profile.concepts["InputBuffer"].features if f.name == "receive")
+    assert (receive.type, receive.default) == ("ReceiveMode", "latest")
+    assert profile.enums["ReceiveMode"] == ("latest", "queue")
 
 
 def test_agent_type_has_the_eight_literals(profile: Profile) -> None:

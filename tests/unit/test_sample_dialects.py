@@ -284,7 +284,7 @@ def test_the_shared_counts_are_those_of_the_paper_sample(samples: dict[str, Samp
         "System": 1, "Robot": 1, "Agent": 3, "ControlSubsystem": 3, "VirtualEffector": 2, "RealEffector": 2,
         "InputBuffer": 12, "OutputBuffer": 12, "InternalMemory": 11, "InterSubsystemLink": 8, "InterAgentLink": 4,
         "FSM": 7, "FsmState": 11, "FsmTransition": 10, "BasicBehaviour": 11, "PartialTransitionFunction": 14,
-        "PrimitivePredicate": 6, "Predicate": 10 + 2 * 11, "Exclusion": 1,  # Predicate: the guards, tc and ec
+        "PrimitivePredicate": 6, "Predicate": 10 + 2 * 11, "Exclusion": 1, "BufferGroup": 1,  # Predicate: the guards, tc and ec
     }  # fmt: skip
 
 

@@ -21,7 +21,7 @@ from typing import Any
 from earl_m2t import resources
 from earl_m2t.gen.views.anchors import AnchorIndex
 from earl_m2t.model.conditions import parse_condition
-from earl_m2t.model.elements import SUBSYSTEM_KINDS, Agent, Condition, EarlModel, Link, Subsystem
+from earl_m2t.model.elements import SUBSYSTEM_KINDS, Activation, Agent, Condition, EarlModel, Link, Subsystem
 from earl_m2t.predicate import format_predicate
 
 
@@ -55,6 +55,7 @@ class StorageRow:
     kind: str  # "ib" | "ob" | "m"
     datatype: str
     count: int  # number of replicated instances, 0 when not replicated
+    receive: str = ""  # how an Input Buffer receives when not the latest value: "queue of 8"
 
 
 @dataclass(frozen=True)
@@ -96,6 +97,17 @@ class StateRow:
     name: str
     anchor: str
     behaviour: str  # its basic behaviour ("" when it has none; several are joined with ", ")
+    activation: str = ""  # "group motors, min period 0.001 s, …"; "" for the subsystem's own period
+
+
+@dataclass(frozen=True)
+class BufferGroupRow:
+    """A buffer group: the Input Buffers an iteration waits for, and those read when new."""
+
+    name: str
+    anchor: str
+    obligatory: tuple[str, ...]
+    optional: tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -162,6 +174,7 @@ class SubsystemTables:
     behaviours: tuple[BehaviourRow, ...]
     functions: tuple[FunctionRow, ...]
     composition: Composition
+    buffer_groups: tuple[BufferGroupRow, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -204,6 +217,16 @@ def build_tables(model: EarlModel) -> SpecTables:
                       kinds=dict(wording()["kinds"]),
                       agent_types=tuple(_agent_type(model, agent, anchors) for agent in model.agents),
                       links=links, agents=agents, anchors=anchors)
+
+
+def activation_text(activation: Activation) -> str:
+    """``group motors, min period 0.001 s, first timeout 0.1 s, next timeout 0.02 s``; "" for none."""
+    parts = [f"group {activation.group}"] if activation.group else []
+    for label, value in (("min period", activation.min_period), ("first timeout", activation.first_timeout),
+                         ("next timeout", activation.next_timeout)):
+        if value is not None:
+            parts.append(f"{label} {value:g} s")
+    return ", ".join(parts)
 
 
 def condition_text(condition: Condition | None) -> str:
@@ -269,7 +292,8 @@ def _subsystem(model: EarlModel, agent: Agent, instances: list[Subsystem], ancho
         fsm_anchor = child("fsm")
         initial = fsm.initial or ""
         states = tuple(StateRow(name=state.name, anchor=child(f"fsm.{state.name}"),
-                                behaviour=", ".join(state.behaviours)) for state in fsm.states)
+                                behaviour=", ".join(state.behaviours), activation=activation_text(state.activation))
+                       for state in fsm.states)
         for state in fsm.states:
             for bb in state.behaviours:
                 states_of.setdefault(bb, []).append(state.name)
@@ -292,7 +316,9 @@ def _subsystem(model: EarlModel, agent: Agent, instances: list[Subsystem], ancho
         exclusions=tuple(e.predicates for e in sub.exclusions), fsm_anchor=fsm_anchor, initial=initial,
         states=states, transitions=transitions,
         behaviours=behaviours, functions=functions,
-        composition=_composition(behaviours, functions, memory, outputs))
+        composition=_composition(behaviours, functions, memory, outputs),
+        buffer_groups=tuple(BufferGroupRow(name=g.name, anchor=child(g.name), obligatory=g.obligatory,
+                                           optional=g.optional) for g in sub.buffer_groups))
 
 
 def _composition(behaviours: tuple[BehaviourRow, ...], functions: tuple[FunctionRow, ...],
@@ -320,9 +346,12 @@ def _storage(model: EarlModel, items: tuple[Any, ...], kind: str, child: Any) ->
         counts[item.template] = counts.get(item.template, 0) + (1 if item.index else 0)
     for item in items:
         if item.template not in rows:
+            receive = getattr(item, "receive", "latest")
             rows[item.template] = StorageRow(name=item.template, anchor=child(item.template), kind=kind,
                                              datatype=_datatype(model, item.datatype, item.type_ref),
-                                             count=counts[item.template])
+                                             count=counts[item.template],
+                                             receive=f"queue of {item.queue_size}" if receive == "queue" else
+                                             ("" if receive == "latest" else receive))
     return tuple(rows.values())
 
 
