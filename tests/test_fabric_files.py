@@ -54,7 +54,18 @@ def test_fabrics_parser_accepts_every_generated_spec(generated: Path) -> None:
     assert joint_move.next_states == [("emergencyStop", "emergencyStop"),
                                       ("jointMove", "newJointPos and not emergencyStop"),
                                       ("idle", "not emergencyStop")]
-    assert joint_move.buffer_group_min_period == 0.01 and joint_move.buffer_group_used_time == "real"
+    # the sample's activation: manip/a.cs waits for its six motor controllers' states
+    assert [(g.name, g.obligatory, g.optional) for g in manip.buffer_groups] == [
+        ("motors", [f"motorControllerState{k}" for k in range(1, 7)], ["manipulatorCommand"])]
+    assert (joint_move.buffer_group_name, joint_move.buffer_group_min_period, joint_move.buffer_group_first_timeout,
+            joint_move.buffer_group_next_timeout, joint_move.buffer_group_used_time) == (
+        "motors", 0.001, 0.1, 0.02, "real")
+    # a subsystem without groups: one group reading every input when present, at the model's period
+    task = fabric.parse_spec(generated / "task_a_cs" / "spec" / "subsystem.xml")
+    assert [(g.name, g.obligatory, g.optional) for g in task.buffer_groups] == [
+        ("inputs", [], ["manipulatorState", "gripperStatus"])]
+    assert {(s.buffer_group_name, s.buffer_group_min_period, s.buffer_group_first_timeout) for s in task.states} == {
+        ("inputs", 0.01, 0.01)}
     idle = next(b for b in manip.behaviors if b.name == "idle")
     assert idle.stop_cond == "newJointPos or newOperationalPos or emergencyStop"
     assert idle.running_components == ["calculatePosition", "passiveRegulation", "outputManipState",

@@ -142,8 +142,6 @@ def test_the_written_model_regenerates_specs_and_configurations_fabric_accepts(
             assert compiled.returncode == 0, compiled.stderr
 
 
-@pytest.mark.xfail(strict=True, reason="the SysML v2 text does not carry buffer groups and per-state activation "
-                   "yet (issue 13, item 1): the regenerated specs use the default group")
 def test_the_written_model_regenerates_specs_equal_to_the_originals(regenerated: dict[str, Path]) -> None:
     for folder in folders():
         original = fabric.parse_spec(folder / "spec" / "subsystem.xml")
