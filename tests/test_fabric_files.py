@@ -5,6 +5,8 @@ reads, with connections between components that exist (tests/support/fabric.py).
 
 from __future__ import annotations
 
+import itertools
+import re
 import shutil
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
@@ -53,7 +55,7 @@ def test_fabrics_parser_accepts_every_generated_spec(generated: Path) -> None:
     # highest priority first: emergencyStop (2), the self-transition (1), idle (0)
     assert joint_move.next_states == [("emergencyStop", "emergencyStop"),
                                       ("jointMove", "newJointPos and not emergencyStop"),
-                                      ("idle", "not emergencyStop")]
+                                      ("idle", "not emergencyStop and not (newJointPos and not emergencyStop)")]
     # the sample's activation: manip/a.cs waits for its six motor controllers' states
     assert [(g.name, g.obligatory, g.optional) for g in manip.buffer_groups] == [
         ("motors", [f"motorControllerState{k}" for k in range(1, 7)], ["manipulatorCommand"])]
@@ -140,3 +142,32 @@ def test_a_broken_configuration_is_found(generated: Path, tmp_path: Path, old: s
     broken = tmp_path / "broken.xml"
     broken.write_text(text.replace(old, new, 1), encoding="utf-8")
     assert any(problem in p for p in fabric.configuration_problems(broken, spec))
+
+
+def _evaluate(cpp: str, values: dict[str, bool]) -> bool:
+    """The C++ logicExprToCpp made (``p->a && !(p->b || false)``), evaluated for ``values``."""
+    python = re.sub(r"p->(\w+)", lambda m: str(values[m.group(1)]), cpp)
+    python = python.replace("&&", " and ").replace("||", " or ").replace("!", " not ")
+    python = python.replace("true", "True").replace("false", "False")
+    assert re.fullmatch(r"[\sA-Za-z()]*", python), python
+    result: bool = eval(python)  # noqa: S307 - only True/False/and/or/not/parentheses, checked above
+    return result
+
+
+def test_fabric_chooses_the_next_state_the_model_chooses(generated: Path) -> None:
+    """FABRIC refuses to choose when two next states' conditions hold; EARL takes the transition
+    of highest priority. The conditions exclude those of higher priority, so for every value of
+    the predicates at most one holds, and it is the one of highest priority whose own guard holds."""
+    to_cpp = fabric.logic_expr_to_cpp()
+    sd = fabric.parse_spec(generated / "manip_a_cs" / "spec" / "subsystem.xml")
+    joint_move = next(s for s in sd.states if s.name == "jointMove")
+    own = {"emergencyStop": "emergencyStop", "jointMove": "newJointPos and not emergencyStop",
+           "idle": "not emergencyStop"}  # the model's guards, highest priority first
+    for bits in itertools.product((False, True), repeat=len(sd.predicates)):
+        values = dict(zip(sd.predicates, bits), IN_ERROR=False, CURRENT_BEHAVIOR_OK=False)
+        for state in sd.states:
+            holding = [name for name, cond in state.next_states if _evaluate(to_cpp(cond, sd.predicates), values)]
+            assert len(holding) <= 1, (state.name, values, holding)
+        chosen = [name for name, cond in joint_move.next_states if _evaluate(to_cpp(cond, sd.predicates), values)]
+        expected = [name for name, cond in own.items() if _evaluate(to_cpp(cond, sd.predicates), values)][:1]
+        assert chosen == expected, values

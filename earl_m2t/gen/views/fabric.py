@@ -17,6 +17,7 @@ its text: FABRIC computes every predicate in the master's user code.
 
 from __future__ import annotations
 
+import itertools
 import re
 from dataclasses import dataclass
 from typing import Any, Iterable
@@ -111,13 +112,26 @@ class ConditionWriter:
         self.derived: dict[str, str] = {}  # atom text -> FABRIC predicate name, in order of use
 
     def text(self, condition: Condition | None, default: bool, what: str) -> str:
+        return self._expr(self.expression(condition, default, what), top=True)
+
+    def guard(self, condition: Condition | None, what: str, before: list[Expr]) -> str:
+        """A transition's init_cond that also excludes the guards tried before it that can hold
+        with it: FABRIC refuses to choose when two next states' conditions hold
+        (calculateNextState() == -1), EARL takes the first that holds in priority order."""
+        expr = self.expression(condition, True, what)
+        overlapping = [b for b in before if _can_both_hold(expr, b)]
+        if not overlapping:
+            return self._expr(expr, top=True)
+        operands = (expr.operands if isinstance(expr, And) else (expr,)) + tuple(Not(b) for b in overlapping)
+        return self._expr(And(tuple(dict.fromkeys(operands))), top=True)
+
+    def expression(self, condition: Condition | None, default: bool, what: str) -> Expr:
         if condition is None:
-            return "TRUE" if default else "FALSE"
+            return Const(default)
         expr, problem = parse_condition(condition)
         if expr is None:
             raise GenError(f"{what}: {problem.message if problem else 'does not parse'}")
-        expanded = expand_replicated(expr, self._count)
-        return self._expr(expanded, top=True)
+        return expand_replicated(expr, self._count)
 
     def _count(self, node: Replicated) -> int | None:
         return self.resolver.replication_count(node) or None
@@ -145,6 +159,38 @@ class ConditionWriter:
         if text not in self.derived:
             self.derived[text] = self.names.take(cpp_identifier(text))
         return self.derived[text]
+
+
+MAX_ATOMS = 16  # beyond this many atoms two guards are taken to overlap without trying
+
+
+def _atoms(expr: Expr) -> list[Expr]:
+    if isinstance(expr, Not):
+        return _atoms(expr.operand)
+    if isinstance(expr, (And, Or)):
+        return [a for o in expr.operands for a in _atoms(o)]
+    return [] if isinstance(expr, Const) else [expr]
+
+
+def _value(expr: Expr, values: dict[Expr, bool]) -> bool:
+    if isinstance(expr, Const):
+        return expr.value
+    if isinstance(expr, Not):
+        return not _value(expr.operand, values)
+    if isinstance(expr, And):
+        return all(_value(o, values) for o in expr.operands)
+    if isinstance(expr, Or):
+        return any(_value(o, values) for o in expr.operands)
+    return values[expr]
+
+
+def _can_both_hold(a: Expr, b: Expr) -> bool:
+    """Whether some value of their atoms (predicates, other terms taken as free) makes both true."""
+    atoms = list(dict.fromkeys(_atoms(a) + _atoms(b)))
+    if len(atoms) > MAX_ATOMS:
+        return True
+    both = And((a, b))
+    return any(_value(both, dict(zip(atoms, bits))) for bits in itertools.product((False, True), repeat=len(atoms)))
 
 
 def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: list[Data],
@@ -187,9 +233,13 @@ def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: 
     states: list[Data] = []
     for state in fsm.states:
         leaving = sorted((t for t in transitions if t.source == state.name), key=lambda t: -t.priority)
+        next_states: list[Data] = []
+        for t in leaving:
+            higher = [writer.expression(h.condition, True, h.path) for h in leaving[:leaving.index(t)]]
+            next_states.append({"name": _xml(t.target), "init_cond": writer.guard(t.condition, t.path, higher)})
         states.append({
             "name": _xml(state.name), "behaviours": [bb_names[b] for b in state.behaviours if b in bb_names],
-            "next": [{"name": _xml(t.target), "init_cond": writer.text(t.condition, True, t.path)} for t in leaving],
+            "next": next_states,
             "group": _activation(state, groups, period, target, where),
         })
     predicates = list(pp_names.values()) + list(writer.derived.values())
