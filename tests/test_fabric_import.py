@@ -9,6 +9,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 from typing import Any
 
@@ -185,3 +186,29 @@ def test_bad_fabric_input_is_one_line_with_file_and_line(tmp_path: Path, old: st
     line = int(lines[0].split(":")[1])
     assert line > 0
     assert not (tmp_path / "model.sysml").exists()
+
+
+def test_packages_on_one_ipc_channel_are_linked(tmp_path: Path) -> None:
+    """An output and another package's input with the same <io_buffer name> become a link, and the
+    regenerated configurations give both ends one channel."""
+    source = next(f for f in folders() if f.name == "velma_task_cs_ros_interface")
+    echo = tmp_path / "velma_echo_cs_ros_interface"
+    shutil.copytree(source, echo)
+    config = echo / "config" / "velma_task_cs_ros_interface.xml"
+    text = config.read_text(encoding="utf-8")
+    assert '<io_buffer alias="st" name="velma_core_st" />' in text
+    config.write_text(text.replace('<io_buffer alias="st" name="velma_core_st" />',
+                                   '<io_buffer alias="st" name="velma_core_cmd" />'), encoding="utf-8")
+    spec = echo / "spec" / "subsystem.xml"
+    spec.write_text(spec.read_text(encoding="utf-8").replace(
+        'alias="st"      type="velma_core_cs_task_cs_msgs::Status"', 'alias="st"      type="velma_core_cs_task_cs_msgs::Command"'),
+        encoding="utf-8")
+    model, _ = packages_to_model([read_package(source), read_package(echo)], "pair")
+    assert [(l.source, l.target, l.scope) for l in model.links] == [
+        ("velma_task.cs_ros_interface.cmd/ob", "velma_echo.cs_ros_interface.st/ib", "system")]
+    channels: dict[str, dict[str, str]] = {}
+    for name, content in render(model, "orocos").generated.items():
+        if "/config/" in name:
+            root = ElementTree.fromstring(content)
+            channels[name.split("/")[1]] = {b.get("alias", ""): b.get("name", "") for b in root.iter("io_buffer")}
+    assert channels["velma_echo_cs_ros_interface"]["st"] == channels["velma_task_cs_ros_interface"]["cmd"]

@@ -12,6 +12,7 @@ to another imported package's buffers that use the same IPC channel (``<io_buffe
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -42,6 +43,7 @@ from earl_m2t.model.elements import (
 from earl_m2t.model.location import Location
 from earl_m2t.predicate import format_predicate
 
+PREDICATE_CALL = re.compile(r"([A-Za-z_][A-Za-z0-9_]*/pp)\b")
 DIALECT = "fabric"
 RECOGNISED = "suffix"
 LANGUAGE = "EARL"
@@ -181,7 +183,9 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
             expr = parse_fabric_condition(text, predicate_names)
         except ConditionError as exc:
             raise ModelReadError(where.file, f"{what}: {exc}", where.line) from None
-        return Condition(format_predicate(expr), LANGUAGE, _location(where), owner, role)
+        # the paper's form, x/pp.fun, which SysML v2 text writes as a call: 'x/pp'()
+        text = PREDICATE_CALL.sub(r"\1.fun", format_predicate(expr))
+        return Condition(text, LANGUAGE, _location(where), owner, role)
 
     behaviours = tuple(BasicBehaviour(
         name=f"{b.name}/bb", path=f"{path}.{b.name}/bb",
