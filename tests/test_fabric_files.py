@@ -8,6 +8,8 @@ from __future__ import annotations
 import itertools
 import re
 import shutil
+import subprocess
+import sys
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
@@ -171,3 +173,40 @@ def test_fabric_chooses_the_next_state_the_model_chooses(generated: Path) -> Non
         chosen = [name for name, cond in joint_move.next_states if _evaluate(to_cpp(cond, sd.predicates), values)]
         expected = [name for name, cond in own.items() if _evaluate(to_cpp(cond, sd.predicates), values)][:1]
         assert chosen == expected, values
+
+
+THERMOSTAT = FIXTURES / "sysml2" / "thermostat.sysml"
+
+
+def test_a_subsystem_without_inputs_gets_no_package_and_a_note(tmp_path: Path) -> None:
+    """The thermostat's control subsystem has no Input Buffer, so no buffer group FABRIC accepts:
+    gen writes the other packages and says which one it could not write."""
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(THERMOSTAT), "--target", "orocos", "-o",
+                             str(tmp_path)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert ("note: no FABRIC package for thermostat/a.cs: a FABRIC subsystem needs an Input Buffer in a buffer "
+            "group, it has none") in result.stdout.splitlines()
+    assert sorted(p.name for p in (tmp_path / "fabric").iterdir()) == ["thermostat_a_heaterDriver_ve",
+                                                                        "thermostat_a_heater_re"]
+    assert (tmp_path / "orocos" / "thermostat_a" / "cs" / "components.cpp").is_file()
+    for path in specs(tmp_path / "fabric"):
+        fabric.parse_spec(path)
+
+
+def test_terms_that_are_not_predicates_become_fabric_predicates(tmp_path: Path) -> None:
+    if shutil.which("g++") is None:
+        pytest.skip("g++ is not installed")
+    text = THERMOSTAT.read_text(encoding="utf-8").replace(
+        "then action drive : 'drive/pf'; then done; }",
+        "then action drive : 'drive/pf'; then done; "
+        "constraint tc { language \"EARL\" /* newData(command/ib) ∧ ¬command/ib.msg.on */ } }")
+    assert "newData(command/ib)" in text
+    model_file = tmp_path / "thermostat.sysml"
+    model_file.write_text(text, encoding="utf-8")
+    files = render(load(model_file).model, "orocos").generated
+    spec = tmp_path / "subsystem.xml"
+    spec.write_bytes(files["fabric/thermostat_a_heaterDriver_ve/spec/subsystem.xml"])
+    sd = fabric.parse_spec(spec)
+    assert sd.predicates == ["newData_command_ib", "command_ib_msg_on"]
+    assert [b.stop_cond for b in sd.behaviors] == ["newData_command_ib and not command_ib_msg_on"]
+    assert fabric.compile_conditions(sd, tmp_path).returncode == 0

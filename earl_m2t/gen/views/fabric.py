@@ -80,15 +80,15 @@ class FabricTarget:
 class FabricNames:
     """Distinct FABRIC names within one subsystem definition."""
 
-    def __init__(self, target: FabricTarget, what: str) -> None:
+    def __init__(self, target: FabricTarget, in_conditions: bool = False) -> None:
         self.target = target
-        self.what = what
+        self.in_conditions = in_conditions  # predicate names: logicExprToCpp replaces them in the text
         self.taken: dict[str, str] = {}
 
     def usable(self, name: str) -> bool:
         return (IDENTIFIER.fullmatch(name) is not None and name not in _keywords()
                 and name not in _ALWAYS_RESERVED and name not in self.target.reserved
-                and not any(name in op for op in self.target.operators)
+                and not (self.in_conditions and any(name in op for op in self.target.operators))
                 and name.lower() not in self.taken)
 
     def take(self, earl_name: str) -> str:
@@ -194,11 +194,12 @@ def _can_both_hold(a: Expr, b: Expr) -> bool:
 
 
 def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: list[Data],
-                    period: float, target: FabricTarget) -> Data:
+                    period: float, target: FabricTarget) -> Data | None:
     """The data of ``spec/subsystem.xml`` for one subsystem definition (``sub`` is its first
-    instance; ``buffers`` and ``pfs`` are the Orocos view's entries of its master and pf components)."""
+    instance; ``buffers`` and ``pfs`` are the Orocos view's entries of its master and pf
+    components), or None when FABRIC cannot express it: no Input Buffer to make a buffer group of."""
     where = sub.path
-    aliases = FabricNames(target, f"{where} buffers")
+    aliases = FabricNames(target)
     for entry in buffers:
         buf = next(b for b in sub.buffers if b.template == entry["template"] and b.index == entry["index"])
         entry["alias"] = aliases.take(buf.name)
@@ -206,17 +207,17 @@ def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: 
     inputs = [b for b in buffers if b["direction"] == "in"]
     groups = _groups(sub, inputs, target)
     if not groups:
-        raise GenError(f"{where}: FABRIC needs at least one Input Buffer in a buffer group, the subsystem has none")
+        return None
 
-    names = FabricNames(target, f"{where} predicates")
+    names = FabricNames(target, in_conditions=True)
     pp_names = {pp.name: names.take(pp.name) for pp in sub.predicates}
     writer = ConditionWriter(model, sub, names, pp_names)
 
-    components = FabricNames(target, f"{where} components")
+    components = FabricNames(target)
     pf_names = {pf["role"]: components.take(pf["model_name"]) for pf in pfs}
     for pf in pfs:
         pf["component"] = pf_names[pf["role"]]
-    behaviour_names = FabricNames(target, f"{where} behaviours")
+    behaviour_names = FabricNames(target)
     bb_names: dict[str, str] = {}
     behaviours: list[Data] = []
     pf_by_model = {pf["model_name"]: pf for pf in pfs}

@@ -27,6 +27,8 @@ from earl_m2t.model.elements import EarlModel, Subsystem
 
 Data = dict[str, Any]
 
+FABRIC_FOLDER = "fabric"  # the FABRIC packages' folder in the output (transforms/orocos/target.toml)
+
 # subsystem kinds by their distance from the control subsystem (FABRIC's top/bottom sides)
 _RANK = {"cs": 0, "ve": 1, "vr": 1, "re": 2, "rr": 2}
 
@@ -58,6 +60,7 @@ class OrocosView:
     system: Data  # libraries, instances, links
     definitions: list[Data]  # one per subsystem definition: a component library, a FABRIC subsystem model
     instances: list[Data]  # one per subsystem instance: a deployer script, a FABRIC run-time configuration
+    notes: list[str]  # the subsystem definitions FABRIC cannot express (no FABRIC package written)
 
 
 def xml_text(text: str) -> str:
@@ -158,8 +161,8 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         channels[connection["to"]] = alias_of[connection["from"]]
     for instance in instances:
         definition = instance.pop("definition")
-        instance["fabric"] = instance_configuration(instance, definition["fabric"], definition["pfs"], channels,
-                                                    target.fabric)
+        instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
+            instance, definition["fabric"], definition["pfs"], channels, target.fabric)
     for instance in instances:
         master = instance["name"]
         instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
@@ -173,7 +176,8 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     project = field_name(model.name or system.name or "model") + target.package_suffix
     system_data = {"model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
                    "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"]}
-    return OrocosView(system=system_data, definitions=definitions, instances=instances)
+    notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
+    return OrocosView(system=system_data, definitions=definitions, instances=instances, notes=notes)
 
 
 def _pf_instance(master: str, pf: Data, name: str) -> Data:
@@ -240,8 +244,13 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         conditions.append({"name": operations.take(row["guard"]), "method": row["guard"]})
 
     library = f"{definition['agent']}_{definition['sub']}"
-    fabric = definition_spec(model, sub, buffers, pfs, target.period, target.fabric)
-    fabric.update(path=xml_text(sub.path), block=xml_text(sub.block))
+    fabric: Data | None = definition_spec(model, sub, buffers, pfs, target.period, target.fabric)
+    note = ""
+    if fabric is None:
+        note = (f"no FABRIC package for {sub.path}: a FABRIC subsystem needs an Input Buffer in a buffer "
+                "group, it has none")
+    else:
+        fabric.update(path=xml_text(sub.path), block=xml_text(sub.block))
     return {
         "ns": ns, "agent": definition["agent"], "sub": definition["sub"], "path": xml_text(sub.path),
         "definition": cpp_comment(sub.block),
@@ -250,7 +259,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         "data_include": definition["data_include"], "master_type": f"{ns}::orocos::Master",
         "library": library, "source": f"orocos/{definition['agent']}/{definition['sub']}/components.cpp",
         "buffers": buffers, "pfs": pfs, "predicates": predicates, "conditions": conditions,
-        "fabric": fabric, "model": definition["comment"],
+        "fabric": fabric, "fabric_note": note, "model": definition["comment"],
     }
 
 
