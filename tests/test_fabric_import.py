@@ -159,22 +159,30 @@ def test_importing_again_writes_nothing_and_keeps_an_edited_model(imported: Path
     assert imported.read_text(encoding="utf-8").endswith("// my note\n")
 
 
-
-
-@pytest.mark.parametrize(("old", "new", "message"), [
-    ('min_period_sim="0.001" ', "", "<buffer_group> must have the attribute 'min_period_sim'"),
-    ('<obligatory name="st" />', '<obligatory name="status" />', "names 'status', which is no <in> buffer"),
-    ('stop_cond="FALSE"', 'stop_cond="FALSE and"', "behavior 'normal' stop_cond: the condition ends too early"),
-    ('err_cond="FALSE"', 'err_cond="IN_ERROR"', "IN_ERROR (a FABRIC run-time flag) has no EARL counterpart"),
-    ('<states initial="normal">', '<states initial="start">', "the initial state 'start' is not a <state>"),
-    ('type="velma_core_cs_task_cs_msgs::Status"', 'type="Status"', "is not 'package::Message'"),
-    ("</subsystem_definition>", "", "not well-formed XML"),
+@pytest.mark.parametrize(("file", "old", "new", "message"), [
+    ("spec/subsystem.xml", 'min_period_sim="0.001" ', "", "<buffer_group> must have the attribute 'min_period_sim'"),
+    ("spec/subsystem.xml", '<obligatory name="st" />', '<obligatory name="status" />',
+     "names 'status', which is no <in> buffer"),
+    ("spec/subsystem.xml", 'stop_cond="FALSE"', 'stop_cond="FALSE and"',
+     "behavior 'normal' stop_cond: the condition ends too early"),
+    ("spec/subsystem.xml", 'err_cond="FALSE"', 'err_cond="IN_ERROR"',
+     "IN_ERROR (a FABRIC run-time flag) has no EARL counterpart"),
+    ("spec/subsystem.xml", '<states initial="normal">', '<states initial="start">',
+     "the initial state 'start' is not a <state>"),
+    ("spec/subsystem.xml", 'type="velma_core_cs_task_cs_msgs::Status"', 'type="Status"', "is not 'package::Message'"),
+    ("spec/subsystem.xml", "</subsystem_definition>", "", "not well-formed XML"),
+    ("spec/subsystem.xml", 'stop_cond="FALSE"', 'stop_cond="ready"',
+     "'ready' is not a <predicate> of the subsystem"),
+    ("config/velma_pred_ctrl_interface.xml", '<io_buffer alias="st" name="velma_core_st2" />',
+     '<io_buffer alias="st" />', "<io_buffer> must have the attribute 'name'"),
+    ("config/velma_pred_ctrl_interface.xml", "</subsystem_configuration>", "", "not well-formed XML"),
 ])
-def test_bad_fabric_input_is_one_line_with_file_and_line(tmp_path: Path, old: str, new: str, message: str) -> None:
+def test_bad_fabric_input_is_one_line_with_file_and_line(tmp_path: Path, file: str, old: str, new: str,
+                                                        message: str) -> None:
     source = next(f for f in folders() if f.name == "velma_pred_ctrl_interface")
     package = tmp_path / "broken"
     shutil.copytree(source, package)
-    spec = package / "spec" / "subsystem.xml"
+    spec = package / file
     text = spec.read_text(encoding="utf-8")
     assert old in text
     spec.write_text(text.replace(old, new, 1), encoding="utf-8")
@@ -201,8 +209,8 @@ def test_packages_on_one_ipc_channel_are_linked(tmp_path: Path) -> None:
                                    '<io_buffer alias="st" name="velma_core_cmd" />'), encoding="utf-8")
     spec = echo / "spec" / "subsystem.xml"
     spec.write_text(spec.read_text(encoding="utf-8").replace(
-        'alias="st"      type="velma_core_cs_task_cs_msgs::Status"', 'alias="st"      type="velma_core_cs_task_cs_msgs::Command"'),
-        encoding="utf-8")
+        'alias="st"      type="velma_core_cs_task_cs_msgs::Status"',
+        'alias="st"      type="velma_core_cs_task_cs_msgs::Command"'), encoding="utf-8")
     model, _ = packages_to_model([read_package(source), read_package(echo)], "pair")
     assert [(l.source, l.target, l.scope) for l in model.links] == [
         ("velma_task.cs_ros_interface.cmd/ob", "velma_echo.cs_ros_interface.st/ib", "system")]

@@ -118,8 +118,8 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
         linked = any(l.scope == "system" and agent_name in (l.ends[0].split(".")[0], l.ends[1].split(".")[0])
                      for l in links)
         built_paths.append(agent_name)
-        built.append(Agent(name=agent_name, path=agent_name, block=f"{agent_name}_agent", robot=f"{name}_robot", subsystems=tuple(subsystems),
-                           links=own, declared_type="",
+        built.append(Agent(name=agent_name, path=agent_name, block=f"{agent_name}_agent", robot=f"{name}_robot",
+                           subsystems=tuple(subsystems), links=own, declared_type="",
                            computed_type=computed_agent_type(bool(kinds & {"ve", "re"}), bool(kinds & {"vr", "rr"}),
                                                              linked),
                            location=subsystems[0].location, recognised_by="stereotype"))
