@@ -2,7 +2,9 @@
 
 Names follow FABRIC's own convention for packages, ``<agent>_<kind>_<name>``
 (``velma_core_ve_body``: agent ``velma_core``, virtual effector ``ve_body``); a package name
-without a kind is the control subsystem ``cs`` of an agent of that name. Every element keeps
+without a kind is the control subsystem ``cs`` of an agent of that name, and so is every
+package whose agent the imported packages do not complete (one cs, ve with re, vr with rr),
+with a note. Every element keeps
 FABRIC's name with the EARL suffix (``hi_cmd/ib``, ``recvStatus/pp``, ``safe/bb``, ``safe/pf``),
 so gen --target orocos writes FABRIC's names back. Running components become partial
 transition functions (one stage: FABRIC runs them side by side), their code stays the
