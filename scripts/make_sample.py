@@ -146,9 +146,9 @@ EMERGENCY = "emergencyStop/pp.fun"
 MOTION_TC = "motionFinished/pp.fun ∨ emergencyStop/pp.fun"
 IDLE_TC = "newJointPos/pp.fun ∨ newOperationalPos/pp.fun ∨ emergencyStop/pp.fun"
 COMMAND_QUEUE = 8  # manip/a.cs's manipulatorCommand/ib: task/a's commands, in order
-# every state of manip/a.cs: wait for the motor controllers (at most 20 ms, 100 ms on entry),
-# never iterate faster than 1 ms
-MANIPULATOR_ACTIVATION = {"bufferGroup": "motors", "minPeriod": "0.001", "firstTimeout": "0.1",
+# every state of manip/a.cs: an iteration per command of task/a (waiting at most 100 ms on
+# entering a state, 20 ms later), at most one per 0.5 ms, so that it catches up when behind
+MANIPULATOR_ACTIVATION = {"bufferGroup": "commands", "minPeriod": "0.0005", "firstTimeout": "0.1",
                           "nextTimeout": "0.02"}
 
 
@@ -348,10 +348,11 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
         body="// Composes one MotorControllerCommand per joint.",
     )
 
-    # Activation (FABRIC's buffer groups): commands queue, so that task/a's one-shot setpoint is
-    # read even when manip/a.cs falls behind; an iteration waits for the motor controllers' states.
+    # Activation (FABRIC's buffer groups): task/a's commands queue and each one activates an
+    # iteration, so that its one-shot setpoint is read even when manip/a.cs falls behind; the
+    # motor controllers' states are read when new.
     command.stereotype("InputBuffer", {"receive": "queue", "queueSize": COMMAND_QUEUE})
-    cs.buffer_group("motors", obligatory=[mc_state], optional=[command])
+    cs.buffer_group("commands", obligatory=[command], optional=[mc_state])
 
     # Table 6 and Fig. 12
     fsm = cs.state_machine()

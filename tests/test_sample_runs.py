@@ -18,6 +18,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
 CYCLES = 1000  # the scripted task ends with the emergency stop at about cycle 850
@@ -30,6 +32,15 @@ POSITIONS = re.compile(rf"^step (\d+) manip/a\.cs: q{NUMBERS} finished ([01]) es
 CURRENTS = re.compile(rf"^step (\d+) manip/a\.cs: i{NUMBERS} estop ([01])$")
 SETPOINT = re.compile(rf"^step (\d+) task/a\.cs: jointMove setpoint{NUMBERS}$")
 TASK = re.compile(r"^step \d+ task/a\.cs: (jointMove setpoint|motion finished|emergency stop)")
+
+from tests.support.load import cpu_hogs, run_until  # noqa: E402
+
+# The loaded threaded campaign: 50 runs, each stopped as soon as manip/a.cs reached
+# emergencyStop (about 0.85 s of the sample's script at the threaded period of 1 ms), with
+# one busy process per CPU; about 50 s in all.
+LOADED_RUNS = 50
+LOADED_TIMEOUT = 20.0  # s per run: far beyond the 0.85 s the script needs
+SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
                                 reason="g++ and cmake are needed")
@@ -125,3 +136,24 @@ def test_the_run_is_deterministic_and_the_user_trace_can_be_silenced(project: tu
     assert len(printed_by_user_code) == 2 * CYCLES + 3
     user_lines = set(printed_by_user_code)
     assert quiet == [line for line in trace if line not in user_lines]
+
+
+def manip_states(lines: list[str]) -> list[str]:
+    """The states manip/a.cs entered, in order, from the runtime's trace."""
+    return [m.group(2) or m.group(4) for m in map(STATE.match, lines) if m]
+
+
+def test_threaded_runs_reach_the_sequence_under_load(project: tuple[Path, str]) -> None:
+    """Every subsystem in its own thread at 1 ms, the machine loaded: task/a's one-shot setpoint
+    is never lost (manipulatorCommand/ib is a queue and activates manip/a.cs), so every run goes
+    idle -> jointMove -> idle -> emergencyStop."""
+    build, _ = project
+    env = {**os.environ, "PICK_AND_PLACE_QUIET": "1"}
+    command = [build / "PickAndPlace_system", "--threaded", str(LOADED_TIMEOUT)]
+    failures = []
+    with cpu_hogs():
+        for attempt in range(LOADED_RUNS):
+            lines, reached = run_until(command, lambda out: "emergencyStop" in manip_states(out), LOADED_TIMEOUT, env)
+            if not reached or manip_states(lines) != SEQUENCE:
+                failures.append(f"run {attempt + 1}: {manip_states(lines)}")
+    assert not failures, f"{len(failures)} of {LOADED_RUNS} runs missed the sequence:\n" + "\n".join(failures)

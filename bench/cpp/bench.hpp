@@ -30,7 +30,8 @@ inline const char* name(Scenario s) noexcept { return s == Scenario::hold ? "hol
 
 /// The links of manip/a.cs: seven towards its input buffers, seven from its output buffers.
 struct Links {
-  earl::Channel<types::ManipulatorCommand> manipulatorCommand;  // task/a.cs -> manipulatorCommand/ib
+  // task/a.cs -> manipulatorCommand/ib, a queue of 8 in the sample (at most one command per cycle here)
+  earl::QueueChannel<types::ManipulatorCommand, 8> manipulatorCommand;
   std::array<earl::Channel<types::MotorControllerState>, kJoints> motorControllerState;  // -> motorControllerStateK/ib
   earl::Channel<types::ManipulatorState> manipulatorState;  // manipulatorState/ob ->
   std::array<earl::Channel<types::MotorControllerCommand>, kJoints> motorControllerCommand;  // motorControllerCommandK/ob ->

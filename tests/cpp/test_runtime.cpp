@@ -1,6 +1,9 @@
-// Unit test of the earl C++ runtime (transforms/cpp/runtime): buffers and newData, priority
-// selection with ties in model order, the stage order of a transition function and the
-// basic-behaviour loop. Built and run by tests/test_gen_cpp.py; prints "ok" and exits 0.
+// Unit test of the earl C++ runtime (transforms/cpp/runtime): buffers and newData, queued
+// inputs (order, one value per receive, overflow counted), priority selection with ties in
+// model order, the stage order of a transition function, the basic-behaviour loop and
+// activation (obligatory inputs, minimal period, first and next timeouts on a given clock).
+// Built and run by tests/test_gen_cpp.py; prints "ok" and exits 0.
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -65,6 +68,40 @@ void buffers_and_new_data() {
   EXPECT(merged.receive() && merged.msg() == 2);
 }
 
+void queued_inputs() {
+  earl::QueueChannel<int, 3> link;
+  earl::Channel<int> latest;
+  earl::OutputPort<int, 2> out;
+  earl::InputPort<int, 1, 3> in;
+  earl::InputPort<int, 1> other;
+  EXPECT(out.connect(link) && out.connect(latest));  // one output, a queued and a latest-value input
+  EXPECT(in.connect(link) && other.connect(latest));
+  EXPECT(!in.ready() && !in.receive());
+  for (int v : {1, 2, 3, 4, 5}) {
+    out.msg() = v;
+    out.send();
+  }
+  EXPECT(in.ready() && other.ready());
+  EXPECT(in.overflows() == 2 && in.newOverflows() == 2 && in.newOverflows() == 0);  // 4 and 5 lost, reported once
+  EXPECT(in.receive() && in.msg() == 1);  // in order, one per receive()
+  EXPECT(in.receive() && in.msg() == 2);
+  EXPECT(in.receive() && in.msg() == 3 && !in.ready());
+  EXPECT(!in.receive() && !in.newData() && in.msg() == 3);
+  EXPECT(other.receive() && other.msg() == 5);  // the latest-value input got the newest
+  // two queued links: the first link's values first
+  earl::QueueChannel<int, 2> a, b;
+  earl::OutputPort<int, 1> first, second;
+  earl::InputPort<int, 2, 2> merged;
+  EXPECT(first.connect(a) && second.connect(b) && merged.connect(a) && merged.connect(b));
+  second.msg() = 20;
+  second.send();
+  first.msg() = 10;
+  first.send();
+  EXPECT(merged.receive() && merged.msg() == 10);
+  EXPECT(merged.receive() && merged.msg() == 20);
+  EXPECT(!merged.receive());
+}
+
 void value_types() {
   earl::String<4> s = "hello";
   EXPECT(s.size() == 4 && std::strcmp(s.c_str(), "hell") == 0);
@@ -108,7 +145,7 @@ class Demo final : public earl::Subsystem<Demo> {
         {"A,A/t", 0, 0, 1, &Demo::gA},
         {"B,A/t", 1, 0, 0, &Demo::always},
     };
-    static const earl::FsmTables<Demo> t{states, 3, behaviours, 2, transitions, 4, 0};
+    static const earl::FsmTables<Demo> t{states, 3, behaviours, 2, transitions, 4, 0, nullptr};
     return t;
   }
 };
@@ -151,12 +188,71 @@ void stages_and_priorities() {
   EXPECT(earl::selectTransition(d, Demo::tables().transitions, 4, earl::StateId{0}) == nullptr);
 }
 
+// One state, activated by the obligatory input ``ready`` (minimal period 2 ms, first timeout
+// 10 ms, next timeout 5 ms), and a second state without a group at the component's period.
+class Driven final : public earl::Subsystem<Driven> {
+ public:
+  Driven() noexcept : earl::Subsystem<Driven>("driven", tables()) {}
+  bool input = false, leave = false;
+  void send() noexcept {}
+  void receive() noexcept { input = false; }
+  bool obligatory() const noexcept { return input; }
+  bool tc() const noexcept { return leave; }
+  bool never() const noexcept { return false; }
+  bool always() const noexcept { return true; }
+
+  static const earl::FsmTables<Driven>& tables() noexcept {
+    static const earl::BehaviourDef<Driven> behaviours[] = {
+        {"a/bb", nullptr, 0, &Driven::send, &Driven::receive, &Driven::tc, &Driven::never},
+    };
+    static const earl::StateDef states[] = {{"A", 0}, {"B", 0}};
+    static const earl::TransitionDef<Driven> transitions[] = {{"A,B/t", 0, 1, 0, &Driven::always}};
+    static const earl::ActivationDef<Driven> activations[] = {
+        {&Driven::obligatory, 2'000'000, 10'000'000, 5'000'000},
+        {nullptr, -1, -1, -1},
+    };
+    static const earl::FsmTables<Driven> t{states, 2, behaviours, 1, transitions, 1, 0, activations};
+    return t;
+  }
+};
+
+void activation() {
+  using ms = std::chrono::milliseconds;
+  const earl::Component::Clock::time_point t0{};
+  Driven d;
+  d.setPeriod(ms(4));
+  EXPECT(d.eventDriven());
+  EXPECT(d.ready(t0));  // the first iteration runs at once
+  d.updateHook();
+  EXPECT(!d.ready(t0 + ms(1)));  // nothing came: the wait begins at 1 ms
+  d.input = true;
+  EXPECT(!d.ready(t0 + ms(1)));  // the input came, but the minimal period (2 ms) has not passed
+  EXPECT(d.ready(t0 + ms(2)));
+  d.updateHook();  // receive() takes the input
+  EXPECT(!d.ready(t0 + ms(3)));
+  EXPECT(!d.ready(t0 + ms(7)));  // next timeout: 5 ms after the wait began at 3 ms
+  EXPECT(d.ready(t0 + ms(8)) && d.timeouts() == 1);
+  d.updateHook();
+  d.leave = true;
+  d.input = true;
+  EXPECT(d.ready(t0 + ms(10)));
+  d.updateHook();  // A -> B
+  EXPECT(d.currentState() == 1);
+  EXPECT(!d.ready(t0 + ms(13)));  // B: no group, the component's period (4 ms)
+  EXPECT(d.ready(t0 + ms(14)));
+  earl::Component& periodic = d;
+  Demo plain;
+  EXPECT(periodic.eventDriven() && !static_cast<earl::Component&>(plain).eventDriven());
+}
+
 }  // namespace
 
 int main() {
   buffers_and_new_data();
+  queued_inputs();
   value_types();
   stages_and_priorities();
+  activation();
   if (failures != 0) return EXIT_FAILURE;
   std::printf("ok\n");
   return EXIT_SUCCESS;

@@ -695,38 +695,38 @@ def empty_terminal_condition(s: Sample) -> Expect:
 
 
 def _buffer_group(s: Sample) -> etree._Element:
-    """The constraint of ManipulatorControl stereotyped «BufferGroup» (the group ``motors``)."""
-    return s._find(s.block("ManipulatorControl"), 'ownedRule[@name="motors"]', "buffer group motors")
+    """The constraint of ManipulatorControl stereotyped «BufferGroup» (the group ``commands``)."""
+    return s._find(s.block("ManipulatorControl"), 'ownedRule[@name="commands"]', "buffer group commands")
 
 
 def buffer_group_names_unknown_buffer(s: Sample) -> Expect:
-    """B009: the group motors names the obligatory buffer motorStateK/ib, which ManipulatorControl
-    does not have (its Input Buffer is motorControllerStateK/ib)."""
+    """B009: the group commands names the obligatory buffer manipulatorCmd/ib, which
+    ManipulatorControl does not have (its Input Buffer is manipulatorCommand/ib)."""
     group = _buffer_group(s)
-    s.application("BufferGroup", group).set("obligatory", "motorStateK/ib")
-    return Expect(s.id(group), "motorStateK/ib")
+    s.application("BufferGroup", group).set("obligatory", "manipulatorCmd/ib")
+    return Expect(s.id(group), "manipulatorCmd/ib")
 
 
 def buffer_group_names_output_buffer(s: Sample) -> Expect:
-    """B009: the group motors names the Output Buffer manipulatorState/ob as optional."""
+    """B009: the group commands names the Output Buffer manipulatorState/ob as optional."""
     group = _buffer_group(s)
-    s.application("BufferGroup", group).set("optional", "manipulatorCommand/ib manipulatorState/ob")
+    s.application("BufferGroup", group).set("optional", "motorControllerStateK/ib manipulatorState/ob")
     return Expect(s.id(group), "manipulatorState/ob")
 
 
 def state_without_buffer_group(s: Sample) -> Expect:
     """B010: the state operationalMove of ManipulatorControl loses its tag bufferGroup while the
-    subsystem is activated by the group motors."""
+    subsystem is activated by the group commands."""
     state = s.state("ManipulatorControl", "operationalMove")
     del s.application("FsmState", state).attrib["bufferGroup"]
     return Expect(s.id(state), "operationalMove")
 
 
 def state_names_unknown_buffer_group(s: Sample) -> Expect:
-    """B010: the state idle of ManipulatorControl names the buffer group 'motor', a typo of motors."""
+    """B010: the state idle of ManipulatorControl names the buffer group 'command', a typo of commands."""
     state = s.state("ManipulatorControl", "idle")
-    s.application("FsmState", state).set("bufferGroup", "motor")
-    return Expect(s.id(state), "'motor'")
+    s.application("FsmState", state).set("bufferGroup", "command")
+    return Expect(s.id(state), "'command'")
 
 
 def queue_of_no_value(s: Sample) -> Expect:
@@ -745,11 +745,15 @@ def negative_timeout(s: Sample) -> Expect:
 
 def one_shot_command_into_latest_value(s: Sample) -> Expect:
     """C009: ManipulatorControl's manipulatorCommand/ib receives the latest value again (the
-    sample's tags receive = queue removed), while newJointPos/pp tests newData() on it."""
+    sample's tags receive = queue removed) and no longer activates an iteration (the group waits
+    for the motor controllers instead), while newJointPos/pp tests newData() on it."""
     port = s.attribute("ManipulatorControl", "manipulatorCommand/ib")
     app = s.application("InputBuffer", port)
     for tag in ("receive", "queueSize"):
         del app.attrib[tag]
+    group = s.application("BufferGroup", _buffer_group(s))
+    group.set("obligatory", "motorControllerStateK/ib")
+    group.set("optional", "manipulatorCommand/ib")
     return Expect(s.id(port), "manipulatorCommand/ib")
 
 

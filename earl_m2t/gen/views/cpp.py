@@ -7,6 +7,8 @@ parsed expressions by :mod:`earl_m2t.gen.cpp_expr`. Templates receive dicts and 
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -14,7 +16,7 @@ from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.model.conditions import ConditionResolver, parse_condition
-from earl_m2t.model.elements import Buffer, Condition, DataType, EarlModel, Memory, Subsystem
+from earl_m2t.model.elements import Activation, Buffer, Condition, DataType, EarlModel, Memory, Subsystem
 from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, expand_replicated, walk
 
 Data = dict[str, Any]
@@ -213,6 +215,8 @@ class _Builder:
                 "member": member, "direction": buf.direction, "kind": "ib" if buf.direction == "in" else "ob",
                 "type": self.cpp_type(buf.datatype, buf.path), "replicated": bool(buf.index), "count": 1,
                 "links": fan.get((sub.block_id, buf.template), 1), "comment": cpp_comment(buf.template),
+                "queue": buf.queue_size if buf.direction == "in" and buf.receive == "queue" else 0,
+                "name": cpp_string(buf.template),
             }
         for buf in sub.buffers:
             port = ports[buf.template]
@@ -235,8 +239,9 @@ class _Builder:
                 f"data_.{data['member']}" + (f"[{mem.index - 1}]" if mem.index else ""), mem.datatype, "m")
         for port in ports.values():
             port["count_name"] = f"{port['member']}_count"
+            queue = f", {port['queue']}" if port["queue"] else ""
             port["cpp_type"] = (f"earl::{'InputPort' if port['kind'] == 'ib' else 'OutputPort'}"
-                                f"<{port['type']}, {port['links']}>")
+                                f"<{port['type']}, {port['links']}{queue}>")
             if port["replicated"]:
                 port["cpp_type"] = f"std::array<{port['cpp_type']}, {port['count']}>"
         for entry_m in memories.values():
@@ -335,6 +340,7 @@ class _Builder:
             if len(state.behaviours) != 1 or state.behaviours[0] not in bb_index:
                 raise GenError(f"{state.path}: needs exactly one basic behaviour (rule B002)")
             state_rows.append({"name": cpp_string(state.name), "behaviour": bb_index[state.behaviours[0]]})
+        groups, activations = activation_rows(sub, ports, scope)
         transitions = []
         for tr in sorted(fsm.transitions, key=lambda t: t.order):
             if tr.source not in state_index or tr.target not in state_index:
@@ -366,7 +372,8 @@ class _Builder:
             "ports": list(ports.values()), "memory": list(memories.values()),
             "functions": functions, "predicates": predicates, "pp_accessors": pp_base_accessors,
             "behaviours": behaviours, "states": state_rows, "transitions": transitions,
-            "initial": state_index[fsm.initial],
+            "initial": state_index[fsm.initial], "groups": groups, "activations": activations,
+            "queued": [p for p in ports.values() if p["queue"]],
             "block_id": sub.block_id, "port_members": {t: p["member"] for t, p in ports.items()},
         }
 
@@ -460,11 +467,46 @@ class _Builder:
             types.append(buf.datatype)
         if types[0] != types[1]:
             raise GenError(f"{link.path}: the two ends have different dataTypes (rule C006)")
-        return {"member": scope.take(f"link {link.name}"), "type": self.cpp_type(types[0], link.path),
+        target = self.model.buffer(link.target)
+        value_type = self.cpp_type(types[0], link.path)
+        channel = (f"earl::QueueChannel<{value_type}, {target.queue_size}>"
+                   if target is not None and target.receive == "queue" else f"earl::Channel<{value_type}>")
+        return {"member": scope.take(f"link {link.name}"), "type": value_type, "channel": channel,
                 "source": ends[0], "target": ends[1], "comment": cpp_comment(link.name)}
 
     def _port_member(self, sub: Subsystem, buf: Buffer) -> str:
         return self.port_members[sub.block_id][buf.template]
+
+
+def activation_rows(sub: Subsystem, ports: dict[str, Data], scope: Scope) -> tuple[list[Data], list[Data]]:
+    """The readiness check of each buffer group (its obligatory ports) and one ActivationDef row
+    per state; ([], []) for a subsystem that runs on its own period in every state."""
+    states = sub.fsm.states if sub.fsm is not None else ()
+    if not sub.buffer_groups and all(s.activation == Activation() for s in states):
+        return [], []
+    by_name = {name: b.template for b in sub.inputs for name in (b.name, b.template)}
+    groups: dict[str, Data] = {}
+    for group in sub.buffer_groups:
+        members = [ports[by_name[name]] for name in dict.fromkeys(group.obligatory) if name in by_name]
+        if members:
+            groups[group.name] = {"method": scope.take(f"obligatory_{group.name}"), "comment": cpp_comment(group.name),
+                                  "ports": members}
+    rows = []
+    for state in states:
+        activation = state.activation
+        ready = groups.get(activation.group)
+        rows.append({"obligatory": f"&Subsystem::{ready['method']}" if ready else "nullptr",
+                     "min_period": _nanoseconds(activation.min_period),
+                     "first_timeout": _nanoseconds(activation.first_timeout),
+                     "next_timeout": _nanoseconds(activation.next_timeout), "comment": cpp_comment(state.name)})
+    return list(groups.values()), rows
+
+
+def _nanoseconds(seconds: float | None) -> int:
+    """Seconds as the runtime's nanoseconds; -1 (none) for no value (or one B011 rejects)."""
+    if seconds is None or not math.isfinite(seconds) or seconds < 0:
+        return -1
+    return round(seconds * 1e9)
 
 
 def _stem(name: str) -> str:

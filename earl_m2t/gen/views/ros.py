@@ -156,6 +156,9 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                 n = len(elements)
                 elements.append({"kind": port["kind"], "access": access, "topic": topic, "type": port["type"],
                                  "msg": msg_type, "suffix": suffix, "links": port["links"], "id": n,
+                                 # a queued input: roscpp keeps every message (0: no limit) and the
+                                 # runtime's queue reports an overflow; roscpp would drop the oldest
+                                 "queue": 0 if port.get("queue", 0) else target.queue,
                                  "template": template, "index": buf.index,
                                  "topics": [topic] if port["links"] == 1 or port["kind"] == "ob"
                                  else [topics.take(f"{topic}_link{k + 1}", buf.path) for k in range(port["links"])]})

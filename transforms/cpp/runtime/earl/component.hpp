@@ -17,11 +17,21 @@ class Observer {
   virtual ~Observer() = default;
   virtual void stateChanged(const Component& component, const char* from, const char* to,
                             const char* via, std::uint64_t step) noexcept = 0;
+  /// A queued Input Buffer was full: ``lost`` values sent to it since the last report were
+  /// dropped (reported at the receive() that found them).
+  virtual void overflowed(const Component& component, const char* buffer, std::uint64_t lost,
+                          std::uint64_t step) noexcept {
+    (void)component, (void)buffer, (void)lost, (void)step;
+  }
 };
 
 /// A periodic activity: startHook() once, updateHook() every period, stopHook() at the end.
+/// An event-driven one (eventDriven(): FABRIC's buffer groups) runs updateHook() whenever
+/// ready() says so instead of every period.
 class Component {
  public:
+  using Clock = std::chrono::steady_clock;
+
   explicit Component(const char* name) noexcept : name_(name) {}
   virtual ~Component() = default;
   Component(const Component&) = delete;
@@ -31,6 +41,12 @@ class Component {
   virtual void startHook() noexcept {}
   virtual void updateHook() noexcept = 0;
   virtual void stopHook() noexcept {}
+  virtual bool eventDriven() const noexcept { return false; }
+  /// Whether the next iteration may run at ``now``; true for a periodic component.
+  virtual bool ready(Clock::time_point now) noexcept {
+    (void)now;
+    return true;
+  }
 
   std::chrono::nanoseconds period() const noexcept { return period_; }
   void setPeriod(std::chrono::nanoseconds period) noexcept { period_ = period; }

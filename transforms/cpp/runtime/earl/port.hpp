@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 namespace earl {
 
@@ -26,6 +27,11 @@ class Channel {
     back_ = previous & kIndex;
   }
 
+  /// A value written since the last read() waits (the consumer's side; does not take it).
+  bool fresh() const noexcept { return (middle_.load(std::memory_order_acquire) & kFresh) != 0u; }
+  /// A latest-value channel never overflows: a newer value replaces an unread one.
+  std::uint64_t overflows() const noexcept { return 0; }
+
   bool read(T& out) noexcept {
     if ((middle_.load(std::memory_order_acquire) & kFresh) == 0u) return false;
     const unsigned previous = middle_.exchange(front_, std::memory_order_acq_rel);
@@ -43,15 +49,63 @@ class Channel {
   std::atomic<unsigned> middle_{2u};
 };
 
-/// An Input Buffer (ib): ``msg`` holds the last value received; receive() takes the
-/// newest value of every linked channel (in link order) and sets newData().
-template <class T, std::size_t MaxLinks = 1>
+/// One link into a queued Input Buffer: a single-producer single-consumer ring of Capacity
+/// values in arrival order. write() and read() are wait-free and never allocate. A value
+/// written when the ring is full is not stored and counted in overflows(): a loss is
+/// reported, never silent (the Orocos RTT buffer connection with its drop count).
+template <class T, std::size_t Capacity>
+class QueueChannel {
+  static_assert(Capacity > 0, "a queue holds at least one value");
+
+ public:
+  QueueChannel() noexcept = default;
+  QueueChannel(const QueueChannel&) = delete;
+  QueueChannel& operator=(const QueueChannel&) = delete;
+
+  void write(const T& value) noexcept {
+    const std::size_t tail = tail_.load(std::memory_order_relaxed);
+    if (tail - head_.load(std::memory_order_acquire) == kSlots) {
+      overflows_.fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
+    slots_[tail % kSlots] = value;
+    tail_.store(tail + 1, std::memory_order_release);
+  }
+
+  /// The oldest value not read yet; false when the queue is empty.
+  bool read(T& out) noexcept {
+    const std::size_t head = head_.load(std::memory_order_relaxed);
+    if (head == tail_.load(std::memory_order_acquire)) return false;
+    out = slots_[head % kSlots];
+    head_.store(head + 1, std::memory_order_release);
+    return true;
+  }
+
+  bool fresh() const noexcept {
+    return head_.load(std::memory_order_acquire) != tail_.load(std::memory_order_acquire);
+  }
+  std::uint64_t overflows() const noexcept { return overflows_.load(std::memory_order_relaxed); }
+
+ private:
+  static constexpr std::size_t kSlots = Capacity;
+  std::array<T, Capacity> slots_{};
+  std::atomic<std::size_t> head_{0};  // the consumer's index
+  std::atomic<std::size_t> tail_{0};  // the producer's index
+  std::atomic<std::uint64_t> overflows_{0};
+};
+
+/// An Input Buffer (ib): ``msg`` holds the last value received. Queue == 0 (EARL's latest
+/// value): receive() takes the newest value of every linked channel (in link order). Queue
+/// == N: every link is a queue of N and receive() takes one value, the oldest of the first
+/// link (in link order) that has one, so that each value is delivered once, in order.
+template <class T, std::size_t MaxLinks = 1, std::size_t Queue = 0>
 class InputPort {
  public:
   using value_type = T;
+  using channel_type = std::conditional_t<Queue == 0, Channel<T>, QueueChannel<T, (Queue == 0 ? 1 : Queue)>>;
 
   /// Wiring, at initialisation only; false when more than MaxLinks links are connected.
-  bool connect(Channel<T>& channel) noexcept {
+  bool connect(channel_type& channel) noexcept {
     if (count_ == MaxLinks) return false;
     links_[count_++] = &channel;
     return true;
@@ -62,11 +116,37 @@ class InputPort {
   bool receive() noexcept {
     bool fresh = false;
     for (std::size_t i = 0; i < count_; ++i) {
-      if (links_[i]->read(msg_)) fresh = true;
+      if (links_[i]->read(msg_)) {
+        fresh = true;
+        if constexpr (Queue != 0) break;  // one value per receive()
+      }
     }
     newData_ = fresh;
     if (fresh) ++received_;
     return fresh;
+  }
+
+  /// A value waits on some link (what an obligatory input of a buffer group waits for).
+  bool ready() const noexcept {
+    for (std::size_t i = 0; i < count_; ++i) {
+      if (links_[i]->fresh()) return true;
+    }
+    return false;
+  }
+
+  /// Values lost because a queue was full (always 0 for the latest value).
+  std::uint64_t overflows() const noexcept {
+    std::uint64_t lost = 0;
+    for (std::size_t i = 0; i < count_; ++i) lost += links_[i]->overflows();
+    return lost;
+  }
+
+  /// Values lost since the last call (the consumer's side reports them).
+  std::uint64_t newOverflows() noexcept {
+    const std::uint64_t total = overflows();
+    const std::uint64_t lost = total - reported_;
+    reported_ = total;
+    return lost;
   }
 
   const T& msg() const noexcept { return msg_; }
@@ -78,7 +158,8 @@ class InputPort {
   T msg_{};
   bool newData_ = false;
   std::uint64_t received_ = 0;
-  std::array<Channel<T>*, MaxLinks> links_{};
+  std::uint64_t reported_ = 0;
+  std::array<channel_type*, MaxLinks> links_{};
   std::size_t count_ = 0;
 };
 
@@ -88,15 +169,19 @@ class OutputPort {
  public:
   using value_type = T;
 
-  bool connect(Channel<T>& channel) noexcept {
+  /// Wiring to a Channel (latest value) or a QueueChannel (a queued Input Buffer).
+  template <class LinkChannel>
+  bool connect(LinkChannel& channel) noexcept {
     if (count_ == MaxLinks) return false;
-    links_[count_++] = &channel;
+    links_[count_++] = Sink{&channel, [](void* link, const T& value) noexcept {
+                              static_cast<LinkChannel*>(link)->write(value);
+                            }};
     return true;
   }
 
   /// EARL send(): the current msg() goes to every linked Input Buffer.
   void send() noexcept {
-    for (std::size_t i = 0; i < count_; ++i) links_[i]->write(msg_);
+    for (std::size_t i = 0; i < count_; ++i) links_[i].write(links_[i].channel, msg_);
     ++sent_;
   }
 
@@ -106,9 +191,13 @@ class OutputPort {
   std::size_t links() const noexcept { return count_; }
 
  private:
+  struct Sink {
+    void* channel;
+    void (*write)(void*, const T&) noexcept;
+  };
   T msg_{};
   std::uint64_t sent_ = 0;
-  std::array<Channel<T>*, MaxLinks> links_{};
+  std::array<Sink, MaxLinks> links_{};
   std::size_t count_ = 0;
 };
 

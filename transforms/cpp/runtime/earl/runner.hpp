@@ -14,8 +14,10 @@
 namespace earl {
 
 /// One thread per component, each calling updateHook() every period() (absolute deadlines,
-/// no drift). Threads are created by start() (initialisation); a cycle neither allocates
-/// nor locks: components only meet through the lock-free channels of their links.
+/// no drift), or, for an event-driven component, whenever its ready() holds (looked at every
+/// kPoll: the lock-free channels cannot wake a thread). Threads are created by start()
+/// (initialisation); a cycle neither allocates nor locks: components only meet through the
+/// lock-free channels of their links.
 template <std::size_t N>
 class ThreadedRunner {
  public:
@@ -41,10 +43,21 @@ class ThreadedRunner {
   }
 
  private:
+  static constexpr std::chrono::microseconds kPoll{100};
+
   void loop(Component& c) noexcept {
     c.startHook();
     auto next = std::chrono::steady_clock::now();
     while (running_.load(std::memory_order_relaxed)) {
+      if (c.eventDriven()) {
+        while (!c.ready(std::chrono::steady_clock::now())) {
+          if (!running_.load(std::memory_order_relaxed)) break;
+          std::this_thread::sleep_for(kPoll);
+        }
+        if (!running_.load(std::memory_order_relaxed)) break;
+        c.updateHook();
+        continue;
+      }
       c.updateHook();
       next += c.period();
       std::this_thread::sleep_until(next);

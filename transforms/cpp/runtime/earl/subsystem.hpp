@@ -7,8 +7,15 @@
 //   iterationNumber += 1
 //   tf.pf.ib.receive()    the input buffers the tf's pf (and the state's conditions) read
 //   if ec() || tc():      cfs := selectState()  (stays in cfs when no transition holds)
+//
+// Activation (FABRIC's buffer groups, earl-metamodel.md): a subsystem whose states have an
+// ActivationDef is event-driven. Its next iteration is ready once minPeriod has passed since
+// the previous one started and every obligatory input of the current state's group has a
+// value waiting, or once the state's timeout (firstTimeout for the first iteration after
+// entering the state, nextTimeout later) has passed since the wait began.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 
@@ -46,6 +53,15 @@ struct StateDef {
   std::size_t behaviour;  // index into the behaviour table
 };
 
+/// When a subsystem runs an iteration in one state (FABRIC's buffer group of the state).
+template <class Self>
+struct ActivationDef {
+  Guard<Self> obligatory;       // every obligatory input has a value waiting; nullptr: none
+  std::int64_t minPeriodNs;     // < 0: the component's period
+  std::int64_t firstTimeoutNs;  // < 0: no limit
+  std::int64_t nextTimeoutNs;   // < 0: no limit
+};
+
 /// A transition; the table lists them in model order, which breaks priority ties.
 template <class Self>
 struct TransitionDef {
@@ -65,6 +81,7 @@ struct FsmTables {
   const TransitionDef<Self>* transitions;
   std::size_t transitionCount;
   StateId initial;
+  const ActivationDef<Self>* activations;  // one per state; nullptr: periodic (EARL's default)
 };
 
 /// selectState(): among the transitions leaving ``current`` whose condition holds, the one
@@ -98,6 +115,32 @@ class Subsystem : public Component {
     enter(tables_.initial, nullptr);
   }
 
+  bool eventDriven() const noexcept override { return tables_.activations != nullptr; }
+
+  /// Whether the next iteration may run at ``now`` (see Activation above); the first call
+  /// after an iteration starts the wait that the timeouts bound.
+  bool ready(Clock::time_point now) noexcept override {
+    if (tables_.activations == nullptr || !ran_) return take(now);
+    const ActivationDef<Self>& a = tables_.activations[current_];
+    if (!waiting_) {
+      waiting_ = true;
+      waitStart_ = now;
+    }
+    const Clock::duration gap = a.minPeriodNs >= 0 ? Clock::duration(std::chrono::nanoseconds(a.minPeriodNs))
+                                : a.obligatory != nullptr ? Clock::duration::zero()
+                                                          : Clock::duration(period());
+    if (now < lastStart_ + gap) return false;
+    if (a.obligatory == nullptr) return take(now);
+    const Self& self = static_cast<const Self&>(*this);
+    if ((self.*a.obligatory)()) return take(now);
+    const std::int64_t timeout = entered_ ? a.firstTimeoutNs : a.nextTimeoutNs;
+    if (timeout >= 0 && now >= waitStart_ + std::chrono::nanoseconds(timeout)) {
+      ++timeouts_;
+      return take(now);
+    }
+    return false;
+  }
+
   void updateHook() noexcept override {
     Self& self = static_cast<Self&>(*this);
     step([&self](Action<Self> function) noexcept { (self.*function)(); });
@@ -117,6 +160,7 @@ class Subsystem : public Component {
     }
     (self.*behaviour.send)();
     ++iteration_;
+    entered_ = false;
     (self.*behaviour.receive)();
     ++steps_;
     if ((self.*behaviour.error)() || (self.*behaviour.terminal)()) {
@@ -136,13 +180,29 @@ class Subsystem : public Component {
   std::uint64_t iteration() const noexcept { return iteration_; }
   /// updateHook() calls so far.
   std::uint64_t steps() const noexcept { return steps_; }
+  /// Iterations that ran because a timeout passed before the obligatory inputs came.
+  std::uint64_t timeouts() const noexcept { return timeouts_; }
   const FsmTables<Self>& tables() const noexcept { return tables_; }
 
+ protected:
+  /// A queued input found full: tell the observer how many values were lost.
+  void overflowed(const char* buffer, std::uint64_t lost) const noexcept {
+    if (Observer* o = observer()) o->overflowed(*this, buffer, lost, steps_);
+  }
+
  private:
+  bool take(Clock::time_point now) noexcept {
+    ran_ = true;
+    waiting_ = false;
+    lastStart_ = now;
+    return true;
+  }
+
   void enter(StateId state, const TransitionDef<Self>* via) noexcept {
     const char* from = via != nullptr ? tables_.states[current_].name : nullptr;
     current_ = state;
     iteration_ = 0;
+    entered_ = true;
     if (Observer* o = observer()) {
       o->stateChanged(*this, from, tables_.states[state].name, via != nullptr ? via->name : nullptr, steps_);
     }
@@ -152,7 +212,13 @@ class Subsystem : public Component {
   StateId current_;
   std::uint64_t iteration_ = 0;
   std::uint64_t steps_ = 0;
+  std::uint64_t timeouts_ = 0;
   bool started_ = false;
+  bool entered_ = true;   // no iteration ran in the current state yet
+  bool ran_ = false;      // ready() granted an iteration before
+  bool waiting_ = false;  // waitStart_ holds when the wait for the next iteration began
+  Clock::time_point lastStart_{};
+  Clock::time_point waitStart_{};
 };
 
 }  // namespace earl

@@ -1,4 +1,4 @@
-// earl runtime: an observer printing state changes, one line each, to stdout.
+// earl runtime: an observer printing state changes and queue overflows, one line each, to stdout.
 // Part of earl-m2t's C++ target; header-only, C++17.
 #pragma once
 
@@ -19,6 +19,11 @@ class PrintObserver final : public Observer {
     } else {
       std::printf("step %" PRIu64 " %s: %s -> %s (%s)\n", step, component.name(), from, to, via);
     }
+  }
+  void overflowed(const Component& component, const char* buffer, std::uint64_t lost,
+                  std::uint64_t step) noexcept override {
+    std::printf("step %" PRIu64 " %s: %s overflowed, %" PRIu64 " value(s) lost\n", step, component.name(), buffer,
+                lost);
   }
 };
 

@@ -1,0 +1,118 @@
+"""Runs under load: one busy process per CPU while a test runs, and a run read line by line that
+stops as soon as the states it waits for were printed.
+
+The loaded campaigns (threaded C++, ROS launch, Orocos deployer) use these so that a run that
+only passes on an idle machine, or with a lucky schedule, fails.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+
+HOG = "while True:\n    pass\n"
+
+
+@contextmanager
+def cpu_hogs(count: int | None = None) -> Iterator[list[subprocess.Popen[bytes]]]:
+    """``count`` (default: one per CPU) processes spinning at full speed, stopped on exit
+    whatever happens inside."""
+    hogs: list[subprocess.Popen[bytes]] = []
+    try:
+        for _ in range(count or os.cpu_count() or 2):
+            hogs.append(subprocess.Popen([sys.executable, "-c", HOG], stdin=subprocess.DEVNULL,
+                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        yield hogs
+    finally:
+        for hog in hogs:
+            hog.kill()
+        for hog in hogs:
+            hog.wait()
+
+
+def line_buffered(command: Sequence[str | Path]) -> list[str]:
+    """``command`` with its stdout line-buffered when coreutils' stdbuf is there (printf to a
+    pipe is block-buffered, and the run is stopped before it would flush)."""
+    stdbuf = shutil.which("stdbuf")
+    return ([stdbuf, "-oL"] if stdbuf else []) + [str(c) for c in command]
+
+
+def run_until(command: Sequence[str | Path], seen: Callable[[list[str]], bool], timeout: float,
+              env: dict[str, str] | None = None, cwd: Path | None = None,
+              graceful: bool = True) -> tuple[list[str], bool]:
+    """Run ``command`` and read its output (stdout and stderr) line by line until ``seen(lines)``
+    holds or ``timeout`` seconds passed; then stop it, its whole process group: with SIGINT
+    first when ``graceful``, else at once with SIGKILL (nothing of the run is needed after
+    ``seen``). Returns the lines and whether ``seen`` held."""
+    process = subprocess.Popen(line_buffered(command), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                               stdin=subprocess.DEVNULL, env=env, cwd=cwd, text=True, start_new_session=True)
+    lines: list[str] = []
+    done = threading.Event()
+
+    def read() -> None:
+        assert process.stdout is not None
+        for line in process.stdout:
+            lines.append(line.rstrip("\n"))
+            if seen(lines):
+                done.set()
+                break
+        done.set()
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    done.wait(timeout)
+    ok = seen(list(lines))
+    stop(process, graceful)
+    reader.join(5)
+    return lines, ok
+
+
+def descendants(pid: int) -> list[int]:
+    """Every process started, directly or not, by ``pid`` (from /proc), children first."""
+    parents: dict[int, list[int]] = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rpartition(")")[2].split()
+        except OSError:
+            continue
+        parents.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    found: list[int] = []
+    frontier = [pid]
+    while frontier:
+        children = parents.get(frontier.pop(), [])
+        found.extend(children)
+        frontier.extend(children)
+    return found
+
+
+def stop(process: subprocess.Popen[str], graceful: bool = True) -> None:
+    """Graceful: SIGINT to the process group (a launch or deployer shuts down), then SIGKILL.
+    Otherwise SIGKILL at once to it and every process it started, even those in sessions of
+    their own (roslaunch starts its nodes so)."""
+    if not graceful:
+        for pid in [*descendants(process.pid), process.pid]:
+            try:
+                os.kill(pid, 9)
+            except ProcessLookupError:
+                pass
+        process.wait()
+        return
+    if process.poll() is not None:
+        return
+    try:
+        os.killpg(process.pid, 2)
+        process.wait(5)
+    except (ProcessLookupError, subprocess.TimeoutExpired):
+        pass
+    if process.poll() is None:
+        try:
+            os.killpg(process.pid, 9)
+        except ProcessLookupError:
+            pass
+        process.wait()
