@@ -58,12 +58,12 @@ def test_fabrics_parser_accepts_every_generated_spec(generated: Path) -> None:
     assert joint_move.next_states == [("emergencyStop", "emergencyStop"),
                                       ("jointMove", "newJointPos and not emergencyStop"),
                                       ("idle", "not emergencyStop and not (newJointPos and not emergencyStop)")]
-    # the sample's activation: manip/a.cs waits for its six motor controllers' states
+    # the sample's activation: each command of task/a activates an iteration of manip/a.cs
     assert [(g.name, g.obligatory, g.optional) for g in manip.buffer_groups] == [
-        ("motors", [f"motorControllerState{k}" for k in range(1, 7)], ["manipulatorCommand"])]
-    assert (joint_move.buffer_group_name, joint_move.buffer_group_min_period, joint_move.buffer_group_first_timeout,
-            joint_move.buffer_group_next_timeout, joint_move.buffer_group_used_time) == (
-        "motors", 0.001, 0.1, 0.02, "real")
+        ("commands", ["manipulatorCommand"], [f"motorControllerState{k}" for k in range(1, 7)])]
+    assert {(s.buffer_group_name, s.buffer_group_min_period, s.buffer_group_first_timeout,
+             s.buffer_group_next_timeout, s.buffer_group_used_time) for s in manip.states} == {
+        ("commands", 0.0005, 0.1, 0.02, "real")}
     # a subsystem without groups: one group reading every input when present, at the model's period
     task = fabric.parse_spec(generated / "task_a_cs" / "spec" / "subsystem.xml")
     assert [(g.name, g.obligatory, g.optional) for g in task.buffer_groups] == [
