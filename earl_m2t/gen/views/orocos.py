@@ -31,6 +31,9 @@ FABRIC_FOLDER = "fabric"  # the FABRIC packages' folder in the output (transform
 
 # subsystem kinds by their distance from the control subsystem (FABRIC's top/bottom sides)
 _RANK = {"cs": 0, "ve": 1, "vr": 1, "re": 2, "rr": 2}
+# seconds: the periodic activity of a master whose subsystem is activated by buffer groups; each
+# updateHook() looks whether the next iteration is ready (the lock-free channels wake no one)
+POLL_PERIOD = 0.0002
 
 
 @dataclass(frozen=True)
@@ -142,7 +145,9 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
             instance = {"name": master, "path": xml_text(sub.path), "comment": cpp_comment(sub.path),
                         "type": entry["master_type"],
                         "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
-                        "period": target.period, "priority": target.priority, "scheduler": target.scheduler,
+                        "event_driven": entry["event_driven"],
+                        "period": POLL_PERIOD if entry["event_driven"] else target.period,
+                        "priority": target.priority, "scheduler": target.scheduler,
                         "policy": target.policy, "package": entry["library"], "definition": entry}
             instances.append(instance)
     links: list[Data] = []
@@ -150,8 +155,11 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         if not link.source or not link.target or link.source not in port_of or link.target not in port_of:
             raise GenError(f"{link.path}: a link goes from an Output Buffer to an Input Buffer (rule C001)")
         source, destination = port_of[link.source], port_of[link.target]
+        target_buffer = model.buffer(link.target)
+        queue = target_buffer.queue_size if target_buffer is not None and target_buffer.receive == "queue" else 0
         links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
-                      "to": f"{destination[0]}.{destination[1]}"})
+                      "to": f"{destination[0]}.{destination[1]}", "queue": queue,
+                      "policy": f"queue{queue}" if queue else "links"})
     channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
     alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i in instances for b in i["buffers"]}
     for connection in links:
@@ -175,7 +183,8 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                   "types": [d["master_type"]] + [p["type"] for p in d["pfs"]]} for d in definitions]
     project = field_name(model.name or system.name or "model") + target.package_suffix
     system_data = {"model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
-                   "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"]}
+                   "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
+                   "queues": sorted({link["queue"] for link in links if link["queue"]})}
     notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
     return OrocosView(system=system_data, definitions=definitions, instances=instances, notes=notes)
 
@@ -206,6 +215,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
             instance_path = next(b.path for b in sub.buffers if b.template == buf.template and b.index == index)
             buffers.append({"port": master_ports.take(name), "type": port["type"], "access": f"data.{member}{at}",
                             "direction": buf.direction, "template": buf.template, "index": index,
+                            "queue": port.get("queue", 0),
                             "ros": xml_text(ros_message(buf.datatype, buf.path)),
                             "side": kinds.get(instance_path, "top"), "member": member})
 
@@ -260,6 +270,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         "library": library, "source": f"orocos/{definition['agent']}/{definition['sub']}/components.cpp",
         "buffers": buffers, "pfs": pfs, "predicates": predicates, "conditions": conditions,
         "fabric": fabric, "fabric_note": note, "model": definition["comment"],
+        "event_driven": bool(definition["activations"]), "period_ns": round(target.period * 1e9),
     }
 
 
