@@ -17,6 +17,7 @@ from earl_m2t.cli import check as check_command
 from earl_m2t.cli import convert as convert_command
 from earl_m2t.cli import diff as diff_command
 from earl_m2t.cli import gen as gen_command
+from earl_m2t.cli import import_fabric as import_command
 from earl_m2t.cli import profile as profile_command
 from earl_m2t.cli import report as report_command
 from earl_m2t.cli import rules as rules_command
@@ -46,6 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     convert_command.add_parser(commands)
     diff_command.add_parser(commands)
     trace_command.add_parser(commands)
+    import_command.add_parser(commands)
     return parser
 
 

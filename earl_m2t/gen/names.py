@@ -31,6 +31,11 @@ def _keywords() -> frozenset[str]:
     return frozenset(table["cpp_keywords"]) | {"final", "override", "import", "module"}
 
 
+def is_reserved(name: str) -> bool:
+    """A C++ keyword, or a name the generated code itself uses in every scope."""
+    return name in _keywords() or name in _ALWAYS_RESERVED
+
+
 def cpp_identifier(name: str) -> str:
     """The C++ identifier of an EARL name (``motionFinished/m`` → ``motionFinished_m``)."""
     text = re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(identifier(name.strip())))
@@ -39,7 +44,7 @@ def cpp_identifier(name: str) -> str:
         text = "unnamed"
     if text[0].isdigit():
         text = "n" + text
-    if text in _keywords() or text in _ALWAYS_RESERVED:
+    if is_reserved(text):
         text += "_"
     return text
 

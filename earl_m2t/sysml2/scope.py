@@ -50,24 +50,27 @@ class Scope:
     def __init__(self, profile: Profile) -> None:
         self.profile = profile
         self.definitions: dict[str, list[Any]] = {}
+        self.paths: dict[int, tuple[str, ...]] = {}  # id(definition) -> names of its owners and itself
 
-    def index(self, elements: Iterable[Any]) -> None:
+    def index(self, elements: Iterable[Any], owners: tuple[str, ...] = ()) -> None:
         """Record the definitions of the packages and definitions below ``elements``."""
         for element in elements:
             kind = rule(element)
-            if kind == "Definition":
-                name = identification(element)[1]
-                if name:
-                    self.definitions.setdefault(name, []).append(element)
+            name = identification(element)[1] if kind in ("Package", "Definition") else ""
+            if kind == "Definition" and name:
+                self.definitions.setdefault(name, []).append(element)
+                self.paths[id(element)] = (*owners, name)
             if kind in ("Package", "Definition"):
-                self.index(members(element))
+                self.index(members(element), (*owners, name) if name else owners)
 
     def resolve(self, raw: str) -> Resolved:
         segments = name_segments(raw)
         name = segments[-1] if segments else raw
         local = self.definitions.get(name)
         if local and not (len(segments) > 1 and segments[0] == PROFILE_PACKAGE):
-            return Resolved(node=local[0])
+            # a qualified name picks the definition whose owners it names (P1::Status, P2::Status)
+            qualified = [d for d in local if self.paths.get(id(d), ())[-len(segments):] == tuple(segments)]
+            return Resolved(node=(qualified or local)[0])
         if name in self.profile.concepts:
             return Resolved(concept=name)
         if name in scalar_values():

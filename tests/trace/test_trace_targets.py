@@ -33,7 +33,7 @@ def element_line(model: EarlModel, path: str) -> int:
     for sub in model.subsystems:
         assert sub.fsm is not None
         for element in (sub, *sub.buffers, *sub.functions, *sub.predicates, *sub.behaviours,
-                        *sub.fsm.states, *sub.fsm.transitions):
+                        *sub.fsm.states, *sub.fsm.transitions, *sub.buffer_groups):
             if element.path == path:
                 return element.location.line
     for link in model.links:
@@ -98,9 +98,11 @@ def test_ros_lines(generated: dict[str, Path], model: EarlModel) -> None:
 
 def test_orocos_lines(generated: dict[str, Path], model: EarlModel) -> None:
     out = generated["orocos"]
-    fabric = "fabric/manip_a_cs/subsystem.xml"
-    assert_traced(out, fabric, 'transition="idle,jointMove/t"', TRANSITION, model)
+    fabric = "fabric/manip_a_cs/spec/subsystem.xml"
+    assert_traced(out, fabric, '<next_state name="operationalMove" init_cond="newOperationalPos and not emergencyStop and',
+                  "manip/a.cs.fsm.idle,operationalMove/t", model)
     assert_traced(out, fabric, '<state name="jointMove">', "manip/a.cs.fsm.jointMove", model)
+    assert_traced(out, fabric, '<buffer_group name="commands">', "manip/a.cs.commands", model)
     assert_traced(out, "orocos/manip_a/cs/components.cpp", 'addOperation("ic_idle_jointMove_t"', TRANSITION, model)
     assert_traced(out, "deploy/system.ops", 'connect("manip_a_cs.motorControllerCommandK_ob_1"',
                   "manip/a.cs,motorController1/ve", model)

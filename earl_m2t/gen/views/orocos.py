@@ -19,12 +19,15 @@ from typing import Any
 from xml.sax.saxutils import escape
 
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.names import cpp_comment, cpp_identifier
+from earl_m2t.gen.names import cpp_comment
 from earl_m2t.gen.views.cpp import CppView
+from earl_m2t.gen.views.fabric import FabricTarget, definition_spec, instance_configuration
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
 from earl_m2t.model.elements import EarlModel, Subsystem
 
 Data = dict[str, Any]
+
+FABRIC_FOLDER = "fabric"  # the FABRIC packages' folder in the output (transforms/orocos/target.toml)
 
 # subsystem kinds by their distance from the control subsystem (FABRIC's top/bottom sides)
 _RANK = {"cs": 0, "ve": 1, "vr": 1, "re": 2, "rr": 2}
@@ -43,6 +46,7 @@ class OrocosTarget:
     policy: str
     package_suffix: str  # <model>_orocos: the CMake project, the deployer's import() package
     std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message (the ROS target's table)
+    fabric: FabricTarget
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any], std_msgs: dict[str, str]) -> OrocosTarget:
@@ -50,7 +54,8 @@ class OrocosTarget:
         return cls(period=float(activity.get("period", 0.01)), priority=int(activity.get("priority", 0)),
                    scheduler=str(activity.get("scheduler", "ORO_SCHED_OTHER")),
                    policy=str(connection.get("policy", "data")),
-                   package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs)
+                   package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs,
+                   fabric=FabricTarget.from_spec(spec["fabric"]))
 
 
 @dataclass
@@ -58,6 +63,7 @@ class OrocosView:
     system: Data  # libraries, instances, links
     definitions: list[Data]  # one per subsystem definition: a component library, a FABRIC subsystem model
     instances: list[Data]  # one per subsystem instance: a deployer script, a FABRIC run-time configuration
+    notes: list[str]  # the subsystem definitions FABRIC cannot express (no FABRIC package written)
 
 
 def xml_text(text: str) -> str:
@@ -96,6 +102,9 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
     msg_names = {m["key"]: m["name"] for m in msgs.messages}
 
     def ros_message(datatype: str, where: str) -> str:
+        external = target.fabric.external_message(model.datatypes.get(datatype))
+        if external is not None:
+            return external
         if datatype in msg_names:
             return f"{msgs.package}::{msg_names[datatype]}"
         ros = ros_type(model, datatype, msg_names, msg_target, where)
@@ -139,8 +148,8 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                         "event_driven": entry["event_driven"],
                         "period": POLL_PERIOD if entry["event_driven"] else target.period,
                         "priority": target.priority, "scheduler": target.scheduler,
-                        "policy": target.policy,
-                        "definition_file": f"../{entry['library']}/subsystem.xml", "trace": sub.path}
+                        "policy": target.policy, "package": entry["library"], "definition": entry,
+                        "trace": sub.path}
             instances.append(instance)
     links: list[Data] = []
     for link in model.links:
@@ -152,6 +161,17 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
                       "to": f"{destination[0]}.{destination[1]}", "queue": queue,
                       "policy": f"queue{queue}" if queue else "links", "trace": link.path})
+    channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
+    alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i in instances for b in i["buffers"]}
+    for connection in links:
+        if connection["to"] in channels:
+            raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
+                           "this one has several links")
+        channels[connection["to"]] = alias_of[connection["from"]]
+    for instance in instances:
+        definition = instance.pop("definition")
+        instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
+            instance, definition["fabric"], definition["pfs"], channels, target.fabric)
     for instance in instances:
         master = instance["name"]
         instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
@@ -167,7 +187,8 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
                    "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
                    "queues": sorted({link["queue"] for link in links if link["queue"]})}
     system_data["trace"] = cpp.system["trace"]
-    return OrocosView(system=system_data, definitions=definitions, instances=instances)
+    notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
+    return OrocosView(system=system_data, definitions=definitions, instances=instances, notes=notes)
 
 
 def _pf_instance(master: str, pf: Data, name: str) -> Data:
@@ -222,48 +243,27 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
                     "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
                     "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",
-                    "model": cpp_comment(model_pf.name), "trace": model_pf.path})
+                    "model": cpp_comment(model_pf.name), "model_name": model_pf.name, "trace": model_pf.path})
 
     operations = _Ports(f"{where} master component operations")
     predicates = [{"name": operations.take(p["method"]), "method": p["method"], "text": xml_text(pp.body or pp.name),
                    "model": xml_text(pp.name), "trace": pp.path}
                   for p, pp in zip(definition["predicates"], sub.predicates)]
     conditions: list[Data] = []
-    behaviours: list[Data] = []
-    pf_role = {pf["run"]: pf["role"] for pf in pfs}
     for row, bb in zip(definition["behaviours"], sub.behaviours):
         conditions += [{"name": operations.take(row["tc"]), "method": row["tc"], "trace": bb.path},
                        {"name": operations.take(row["ec"]), "method": row["ec"], "trace": bb.path}]
-        group = [name for r in row["receives"] for name, _ in _elements(r["member"], r["replicated"],
-                                                                         ports[r["member"]]["count"])]
-        behaviours.append({
-            "name": xml_text(cpp_identifier(bb.name)), "model": xml_text(bb.name),
-            "stop_cond": xml_text(bb.tc.text if bb.tc else "FALSE"), "err_cond": xml_text(bb.ec.text if bb.ec else "FALSE"),
-            "stop_operation": row["tc"], "err_operation": row["ec"], "group": group,
-            "running": [{"name": pf_role[run], "stage": n} for n, stage in enumerate(row["stages"], start=1)
-                        for run in stage["runs"]], "trace": bb.path,
-        })
-    fsm = sub.fsm
-    assert fsm is not None  # the C++ view refuses an FSM without an initial state
-    transitions = sorted(fsm.transitions, key=lambda t: t.order)
-    bb_of = {bb.name: cpp_identifier(bb.name) for bb in sub.behaviours}
-    states: list[Data] = []
-    for state in fsm.states:
-        leaving = [(t, row) for t, row in zip(transitions, definition["transitions"]) if t.source == state.name]
-        leaving.sort(key=lambda pair: -pair[0].priority)  # stable: model order breaks ties
-        states.append({"trace": state.path,
-                       "name": xml_text(state.name), "behaviour": xml_text(bb_of[state.behaviours[0]]),
-                       "next": [{"name": xml_text(t.target), "init_cond": xml_text(t.condition.text if t.condition else "TRUE"),
-                                 "priority": t.priority, "operation": row["guard"], "model": xml_text(t.name),
-                                 "trace": t.path}
-                                for t, row in leaving]})
     for row in definition["transitions"]:
         conditions.append({"name": operations.take(row["guard"]), "method": row["guard"], "trace": row["trace"]})
 
     library = f"{definition['agent']}_{definition['sub']}"
-    fabric = {"path": xml_text(sub.path), "buffers": buffers, "behaviours": behaviours, "states": states,
-              "initial": xml_text(fsm.initial or ""), "predicates": predicates, "period": target.period,
-              "block": xml_text(sub.block), "trace": sub.path}
+    fabric: Data | None = definition_spec(model, sub, buffers, pfs, target.period, target.fabric)
+    note = ""
+    if fabric is None:
+        note = (f"no FABRIC package for {sub.path}: a FABRIC subsystem needs an Input Buffer in a buffer "
+                "group, it has none")
+    else:
+        fabric.update(path=xml_text(sub.path), block=xml_text(sub.block), trace=sub.path)
     return {
         "ns": ns, "agent": definition["agent"], "sub": definition["sub"], "path": xml_text(sub.path),
         "definition": cpp_comment(sub.block),
@@ -272,7 +272,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         "data_include": definition["data_include"], "master_type": f"{ns}::orocos::Master",
         "library": library, "source": f"orocos/{definition['agent']}/{definition['sub']}/components.cpp",
         "buffers": buffers, "pfs": pfs, "predicates": predicates, "conditions": conditions,
-        "fabric": fabric, "model": definition["comment"], "trace": sub.path,
+        "fabric": fabric, "fabric_note": note, "model": definition["comment"], "trace": sub.path,
         "event_driven": bool(definition["activations"]), "period_ns": round(target.period * 1e9),
     }
 

@@ -1,0 +1,96 @@
+"""FABRIC's condition text (``recvStatus and (not rLwrOk or TRUE)``) as an EARL predicate.
+
+The grammar ``logicExprToCpp`` accepts: predicate names, ``TRUE``, ``FALSE``, ``and``, ``or``,
+``not``, parentheses; C++'s precedence applies to what it makes (not, then and, then or).
+``IN_ERROR`` and ``CURRENT_BEHAVIOR_OK`` (FABRIC's own run-time flags) have no EARL meaning.
+"""
+
+from __future__ import annotations
+
+import re
+
+from earl_m2t.predicate import And, Const, Expr, Not, Or, PredicateRef
+
+TOKEN = re.compile(r"\s*(?:(\()|(\))|([A-Za-z_][A-Za-z0-9_]*))")
+UNSUPPORTED = ("IN_ERROR", "CURRENT_BEHAVIOR_OK")
+
+
+class ConditionError(Exception):
+    """A condition FABRIC would not translate, or that names no predicate of the package."""
+
+
+def parse_fabric_condition(text: str, predicates: dict[str, str]) -> Expr:
+    """The condition over EARL predicate names; ``predicates`` maps FABRIC names to them."""
+    tokens = _tokens(text)
+    if not tokens:
+        raise ConditionError("an empty condition (FABRIC writes TRUE or FALSE)")
+    parser = _Parser(tokens, predicates)
+    expr = parser.disjunction()
+    if parser.position != len(tokens):
+        raise ConditionError(f"unexpected '{tokens[parser.position]}'")
+    return expr
+
+
+def _tokens(text: str) -> list[str]:
+    tokens: list[str] = []
+    position = 0
+    text = text.rstrip()
+    while position < len(text):
+        found = TOKEN.match(text, position)
+        if found is None:
+            raise ConditionError(f"unexpected character '{text[position:].lstrip()[:1]}'")
+        tokens.append(found.group(found.lastindex or 0))
+        position = found.end()
+    return tokens
+
+
+class _Parser:
+    def __init__(self, tokens: list[str], predicates: dict[str, str]) -> None:
+        self.tokens = tokens
+        self.position = 0
+        self.predicates = predicates
+
+    def peek(self) -> str:
+        return self.tokens[self.position] if self.position < len(self.tokens) else ""
+
+    def take(self) -> str:
+        token = self.peek()
+        if not token:
+            raise ConditionError("the condition ends too early")
+        self.position += 1
+        return token
+
+    def disjunction(self) -> Expr:
+        operands = [self.conjunction()]
+        while self.peek() == "or":
+            self.take()
+            operands.append(self.conjunction())
+        return operands[0] if len(operands) == 1 else Or(tuple(operands))
+
+    def conjunction(self) -> Expr:
+        operands = [self.negation()]
+        while self.peek() == "and":
+            self.take()
+            operands.append(self.negation())
+        return operands[0] if len(operands) == 1 else And(tuple(operands))
+
+    def negation(self) -> Expr:
+        if self.peek() == "not":
+            self.take()
+            return Not(self.negation())
+        return self.atom()
+
+    def atom(self) -> Expr:
+        token = self.take()
+        if token == "(":
+            expr = self.disjunction()
+            if self.take() != ")":
+                raise ConditionError("a '(' is not closed")
+            return expr
+        if token in ("TRUE", "FALSE"):
+            return Const(token == "TRUE")
+        if token in UNSUPPORTED:
+            raise ConditionError(f"{token} (a FABRIC run-time flag) has no EARL counterpart")
+        if token in self.predicates:
+            return PredicateRef(self.predicates[token])
+        raise ConditionError(f"'{token}' is not a <predicate> of the subsystem")

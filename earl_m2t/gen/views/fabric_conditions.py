@@ -1,0 +1,125 @@
+"""EARL conditions as FABRIC condition text, the syntax FABRIC's ``logicExprToCpp`` translates:
+``and``, ``or``, ``not``, parentheses, ``TRUE``, ``FALSE`` over predicate names.
+
+An atom of an EARL condition that is not a primitive predicate (``newData(x/ib)``, a comparison,
+a field) becomes a FABRIC predicate of its own, named after its text: FABRIC computes every
+predicate in the master's code. The guards of a state's next states are made exclusive where
+they can hold together, since FABRIC refuses to choose between two that hold.
+"""
+
+from __future__ import annotations
+
+import itertools
+from typing import Protocol
+
+from earl_m2t.gen.errors import GenError
+from earl_m2t.gen.names import cpp_identifier
+from earl_m2t.model.conditions import ConditionResolver, parse_condition
+from earl_m2t.model.elements import Condition, EarlModel, Subsystem
+from earl_m2t.predicate import (
+    And,
+    Const,
+    Expr,
+    Not,
+    Or,
+    PredicateRef,
+    Replicated,
+    expand_replicated,
+    format_predicate,
+)
+
+MAX_ATOMS = 16  # beyond this many atoms two guards are taken to overlap without trying
+
+
+class Names(Protocol):
+    """Hands out distinct FABRIC names (fabric.FabricNames)."""
+
+    def take(self, earl_name: str) -> str: ...
+
+
+class ConditionWriter:
+    """EARL conditions of one subsystem as FABRIC condition text."""
+
+    def __init__(self, model: EarlModel, sub: Subsystem, predicates: Names, pp_names: dict[str, str]) -> None:
+        self.resolver = ConditionResolver(model, sub)
+        self.names = predicates
+        self.pp_names = pp_names
+        self.derived: dict[str, str] = {}  # atom text -> FABRIC predicate name, in order of use
+
+    def text(self, condition: Condition | None, default: bool, what: str) -> str:
+        return self._expr(self.expression(condition, default, what), top=True)
+
+    def guard(self, condition: Condition | None, what: str, before: list[Expr]) -> str:
+        """A transition's init_cond that also excludes the guards tried before it that can hold
+        with it: FABRIC refuses to choose when two next states' conditions hold
+        (calculateNextState() == -1), EARL takes the first that holds in priority order."""
+        expr = self.expression(condition, True, what)
+        overlapping = [b for b in before if _can_both_hold(expr, b)]
+        if not overlapping:
+            return self._expr(expr, top=True)
+        operands = (expr.operands if isinstance(expr, And) else (expr,)) + tuple(Not(b) for b in overlapping)
+        return self._expr(And(tuple(dict.fromkeys(operands))), top=True)
+
+    def expression(self, condition: Condition | None, default: bool, what: str) -> Expr:
+        if condition is None:
+            return Const(default)
+        expr, problem = parse_condition(condition)
+        if expr is None:
+            raise GenError(f"{what}: {problem.message if problem else 'does not parse'}")
+        return expand_replicated(expr, self._count)
+
+    def _count(self, node: Replicated) -> int | None:
+        return self.resolver.replication_count(node) or None
+
+    def _expr(self, node: Expr, top: bool = False) -> str:
+        if isinstance(node, Const):
+            return "TRUE" if node.value else "FALSE"
+        if isinstance(node, Not):
+            return f"not {self._operand(node.operand)}"
+        if isinstance(node, (And, Or)):
+            op = " and " if isinstance(node, And) else " or "
+            text = op.join(self._operand(o) for o in node.operands)
+            return text if top else f"({text})"
+        if isinstance(node, PredicateRef):
+            pp = self.resolver.predicate(node.name)
+            if pp is not None:
+                return self.pp_names[pp]
+        return self._atom(node)
+
+    def _operand(self, node: Expr) -> str:
+        return self._expr(node, top=False)
+
+    def _atom(self, node: Expr) -> str:
+        text = format_predicate(node)
+        if text not in self.derived:
+            self.derived[text] = self.names.take(cpp_identifier(text))
+        return self.derived[text]
+
+
+def _atoms(expr: Expr) -> list[Expr]:
+    if isinstance(expr, Not):
+        return _atoms(expr.operand)
+    if isinstance(expr, (And, Or)):
+        return [a for o in expr.operands for a in _atoms(o)]
+    return [] if isinstance(expr, Const) else [expr]
+
+
+def _value(expr: Expr, values: dict[Expr, bool]) -> bool:
+    if isinstance(expr, Const):
+        return expr.value
+    if isinstance(expr, Not):
+        return not _value(expr.operand, values)
+    if isinstance(expr, And):
+        return all(_value(o, values) for o in expr.operands)
+    if isinstance(expr, Or):
+        return any(_value(o, values) for o in expr.operands)
+    return values[expr]
+
+
+def _can_both_hold(a: Expr, b: Expr) -> bool:
+    """Whether some value of their atoms (predicates, other terms taken as free) makes both true."""
+    atoms = list(dict.fromkeys(_atoms(a) + _atoms(b)))
+    if len(atoms) > MAX_ATOMS:
+        return True
+    both = And((a, b))
+    return any(_value(both, dict(zip(atoms, bits))) for bits in itertools.product((False, True), repeat=len(atoms)))
