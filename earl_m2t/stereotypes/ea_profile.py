@@ -50,12 +50,16 @@ def _profile(file: str, element: Element, earl_concept: Callable[[str], str]) ->
             bases[stereotype_key(own)] = [b.strip() for b in written.split(",") if b.strip()]
     concepts: dict[str, str] = {}
 
+    is_earl = name.strip().lower() in qualifiers  # the EARL profile itself (an EARL MDG)
+
     def resolve(key: str, seen: frozenset[str]) -> str:
         if key in concepts:
             return concepts[key]
+        if is_earl and earl_concept(key):
+            return earl_concept(key)
         for base in bases.get(key, ()):
             qualifier, _, base_name = base.rpartition("::")
-            if qualifier.lower() in qualifiers or (not qualifier and name.lower() in qualifiers):
+            if qualifier.lower() in qualifiers or (not qualifier and is_earl):
                 concept = earl_concept(base_name)
             elif qualifier.lower() in ("", name.lower()) and stereotype_key(base_name) not in seen:
                 concept = resolve(stereotype_key(base_name), seen | {key})
