@@ -72,3 +72,21 @@ def test_show_prints_the_groups_in_text_and_json() -> None:
     assert {k: group[k] for k in ("name", "kind", "owner", "members")} == {
         "name": "rooms/ga", "kind": "ga", "owner": "house/r", "members": ["kitchen/a", "hall/a"]}
     assert system["agents"][1]["groups"][0]["members"] == ["kitchen/a.heaterDriver/ve", "kitchen/a.heater/re"]
+
+
+def test_the_diagrams_and_the_report_show_the_groups(tmp_path: Path) -> None:
+    for command in (["gen", str(HEATING), "--target", "diagrams", "-o", str(tmp_path / "d")],
+                    ["report", str(HEATING), "-o", str(tmp_path / "r")]):
+        subprocess.run([sys.executable, "-m", "earl_m2t", *command], capture_output=True, text=True, check=True)
+    system = (tmp_path / "d" / "system.dot").read_text(encoding="utf-8")
+    robot = system.index("subgraph cluster_r0")
+    group = system.index("subgraph cluster_g0", robot)
+    assert "label=<agent group <b>rooms/ga</b>>" in system[group:]
+    assert system[group:].split("}")[0].split(";")[-3:-1] == ["\n      a1", "\n      a2"]
+    agent = (tmp_path / "d" / "agent-kitchen-a.dot").read_text(encoding="utf-8")
+    assert agent.count("subsystem group drivers/gs") == 2
+    assert (tmp_path / "d" / "system.svg").read_text(encoding="utf-8").count("rooms/ga") == 1
+    report = (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
+    assert ("<tr><td><code>rooms/ga</code></td><td>agent group</td><td>Rooms</td><td><code>house/r</code></td>"
+            "<td><code>kitchen/a</code>, <code>hall/a</code></td></tr>") in report
+    assert report.count("<td>subsystem group</td>") == 2
