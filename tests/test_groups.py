@@ -90,3 +90,19 @@ def test_the_diagrams_and_the_report_show_the_groups(tmp_path: Path) -> None:
     assert ("<tr><td><code>rooms/ga</code></td><td>agent group</td><td>Rooms</td><td><code>house/r</code></td>"
             "<td><code>kitchen/a</code>, <code>hall/a</code></td></tr>") in report
     assert report.count("<td>subsystem group</td>") == 2
+
+
+def test_the_guide_example_has_the_groups_in_papyrus_xmi() -> None:
+    """tests/fixtures/guide/groups.uml: the same constructs as Papyrus writes them, the links
+    through the groups with SysML NestedConnectorEnds."""
+    example = ROOT / "tests" / "fixtures" / "guide" / "groups.uml"
+    (system,) = load(example).model.systems
+    assert [(g.path, g.kind, g.owner, g.members) for g in system.groups] == [
+        ("rooms/ga", "ga", "house/r", ("kitchen/a",))]
+    kitchen = next(a for a in system.agents if a.path == "kitchen/a")
+    assert [(g.path, g.members) for g in kitchen.groups] == [
+        ("kitchen/a.drivers/gs", ("kitchen/a.heaterDriver/ve", "kitchen/a.heater/re"))]
+    assert [link.name for link in kitchen.links] == ["cs,heaterDriver/ve", "heaterDriver/ve,heater/re"]
+    assert [(link.source, link.target) for link in system.links] == [
+        ("supervisor/a.cs.command/ob", "kitchen/a.cs.command/ib")]
+    assert check(example) == []

@@ -117,6 +117,8 @@ EARL_STEREOTYPES: Mapping[str, str] = {
     "RealEffector": "Class",
     "VirtualReceptor": "Class",
     "RealReceptor": "Class",
+    "AgentGroup": "Class",
+    "SubsystemGroup": "Class",
     "InputBuffer": "Port",
     "OutputBuffer": "Port",
     "InternalMemory": "Property",
