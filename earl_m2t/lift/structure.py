@@ -148,7 +148,7 @@ class StructureLifter:
             if concept == "Robot":
                 for robot_part_name, robot_index in self._instances(part):
                     robot_path = robot_part_name
-                    robot_agents = []
+                    robot_agents: list[str] = []
                     # agents of replicated robots are told apart by their robot
                     prefix = f"{robot_path}." if robot_index else ""
                     for agent_part, agent_block in self._parts(part_type):

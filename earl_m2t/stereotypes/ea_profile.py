@@ -13,11 +13,8 @@ from lxml import etree
 
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.read.safe_xml import parse_xml_file
-from earl_m2t.read.xmi import stereotype_key
+from earl_m2t.read.xmi import Element, stereotype_key
 from earl_m2t.stereotypes.vocabulary import SpecialisingProfile, specialising_profile_settings
-
-Element = etree._Element
-
 
 def is_profile_root(root: Element) -> bool:
     """True for the root element of an EA profile or MDG Technology file."""
