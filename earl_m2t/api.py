@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -26,21 +27,26 @@ class Loaded:
     suppressions: tuple[Suppression, ...] = ()  # the model's ``earl-m2t: ignore[…]`` comments
 
 
-def load(path: Path | str, dialect: str | None = None) -> Loaded:
+def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path | str] = ()) -> Loaded:
     """Read and lift a model file; raises :class:`earl_m2t.diagnostics.ModelReadError` when unreadable.
 
     ``dialect`` (``papyrus``, ``cameo`` …, see ``metamodel/xmi/dialects.toml``) overrides detection.
+    ``profiles`` are Enterprise Architect profile or MDG Technology files of profiles that
+    specialise EARL; such files beside the model are read as well (docs/modelling-guide.md).
     """
     from earl_m2t.check.suppress import read_suppressions
+    from earl_m2t.profile import load_profile
+    from earl_m2t.stereotypes.discover import vocabulary_for
 
     file = Path(path)
+    vocabulary = vocabulary_for(file, tuple(load_profile().concepts), [Path(p) for p in profiles])
     if is_sysml2(file):
         from earl_m2t.sysml2.reader import read_sysml2  # loaded only when needed
 
         raw = read_sysml2(file)
     else:
         raw = load_raw_model(file, dialect)
-    result = lift(raw)
+    result = lift(raw, vocabulary=vocabulary)
     return Loaded(result.model, result.diagnostics, read_suppressions(raw))
 
 

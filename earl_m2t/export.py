@@ -18,6 +18,7 @@ from earl_m2t.model.elements import (
     DataType,
     EarlModel,
     Fsm,
+    Group,
     Link,
     Memory,
     Subsystem,
@@ -74,7 +75,13 @@ def _system(system: System) -> dict[str, Any]:
         ],
         "agents": [_agent(a) for a in system.agents],
         "links": [_link(l) for l in system.links],
+        "groups": [_group(g) for g in system.groups],
     }
+
+
+def _group(group: Group) -> dict[str, Any]:
+    return {"name": group.name, "path": group.path, "kind": group.kind, "block": group.block, "owner": group.owner,
+            "members": list(group.members), "recognised_by": group.recognised_by, **_where(group.location)}
 
 
 def _agent(agent: Agent) -> dict[str, Any]:
@@ -89,6 +96,7 @@ def _agent(agent: Agent) -> dict[str, Any]:
         **_where(agent.location),
         "subsystems": [_subsystem(s) for s in agent.subsystems],
         "links": [_link(l) for l in agent.links],
+        "groups": [_group(g) for g in agent.groups],
     }
 
 

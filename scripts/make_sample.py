@@ -12,7 +12,13 @@ interface that ``tests/support/papyrus_builder.py``, ``cameo_builder.py`` and
   ``com.nomagic.magicdraw.uml_model.model`` member of an ``.mdzip``);
 - ``pick_and_place.ea.xml``: Enterprise Architect 16 "XMI 2.1" export (windows-1252).
 
-Usage: ``python scripts/make_sample.py`` writes the three files;
+Two variants of the Enterprise Architect file name the stereotypes as other EA profiles do
+(``samples/pick_and_place/variants/``): ``pick_and_place.earl-mdg.ea.xml`` with the names of the
+EARL authors' MDG Technology (``EARL:ContSubsys``, ``EARL:VirtEff`` …) and
+``pick_and_place.spsys.ea.xml`` with the stereotypes of SPSysML's SPSys profile, which
+specialise those (``SPSys:PhyAgent``, ``SPSys:PhyContSubsys`` …; read with that profile file).
+
+Usage: ``python scripts/make_sample.py`` writes the three files and the variants;
 ``python scripts/make_sample.py [--dialect papyrus|cameo|ea] OUTPUT`` writes one of them to
 ``OUTPUT`` (Papyrus by default). The output is deterministic: running the script twice gives
 byte-identical files.
@@ -20,6 +26,7 @@ byte-identical files.
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -34,6 +41,32 @@ from tests.support import cameo_builder, ea_builder, papyrus_builder  # noqa: E4
 N_JOINTS = 6
 SAMPLE_DIR = ROOT / "samples" / "pick_and_place"
 SAMPLE = SAMPLE_DIR / "pick_and_place.uml"
+VARIANT_DIR = SAMPLE_DIR / "variants"
+
+# Stereotypes of the EA variants, by EARL concept: (profile prefix, stereotype name); concepts
+# not listed keep their EARL stereotype. The authors' MDG names are those of
+# metamodel/xmi/stereotype-names.toml; SPSys (SPSysML) specialises them.
+EARL_MDG_NAMES = {
+    "Agent": ("EARL", "Agent"),
+    "ControlSubsystem": ("EARL", "ContSubsys"),
+    "VirtualEffector": ("EARL", "VirtEff"),
+    "VirtualReceptor": ("EARL", "VirtRec"),
+    "RealEffector": ("EARL", "RealEff"),
+    "RealReceptor": ("EARL", "RealRec"),
+}
+SPSYS_NAMES = {
+    "Agent": ("SPSys", "PhyAgent"),
+    "ControlSubsystem": ("SPSys", "PhyContSubsys"),
+    "VirtualEffector": ("SPSys", "PhyVirtEff"),
+    "VirtualReceptor": ("SPSys", "PhyVirtRec"),
+    "RealEffector": ("SPSys", "PhyRealEff"),
+    "RealReceptor": ("SPSys", "PhyRealRec"),
+}
+SPSYS_NS = "http://www.sparxsystems.com/profiles/SPSys/1.0"
+VARIANTS = {
+    "pick_and_place.earl-mdg.ea.xml": EARL_MDG_NAMES,
+    "pick_and_place.spsys.ea.xml": SPSYS_NAMES,
+}
 
 
 # ---- the builder interface the three dialects share ------------------------------------------
@@ -495,6 +528,19 @@ def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
     return mb.to_bytes()
 
 
+def renamed_stereotypes(ea_xml: bytes, names: Mapping[str, tuple[str, str]]) -> bytes:
+    """The EA export with the EARL stereotypes of ``names`` applied under other names, in the
+    applications (``<EARL:Agent …/>``) and in EA's own record of them (``FQName=EARL::Agent``)."""
+    text = ea_xml.decode("windows-1252")
+    for concept, (prefix, name) in names.items():
+        text = re.sub(rf"<EARL:{concept}(?=[ />])", f"<{prefix}:{name}", text)
+        text = text.replace(f"@STEREO;Name={concept};FQName=EARL::{concept};",
+                            f"@STEREO;Name={name};FQName={prefix}::{name};")
+    if any(prefix == "SPSys" for prefix, _ in names.values()):
+        text = text.replace(' xmlns:EARL="', f' xmlns:SPSys="{SPSYS_NS}" xmlns:EARL="', 1)
+    return text.encode("windows-1252")
+
+
 def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else list(argv)
     dialect = "papyrus"
@@ -508,6 +554,12 @@ def main(argv: list[str] | None = None) -> int:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(build(dialect=name))
         print(f"wrote {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
+    if not args:
+        VARIANT_DIR.mkdir(exist_ok=True)
+        ea_xml = DIALECTS["ea"].sample.read_bytes()
+        for name, names in VARIANTS.items():
+            (VARIANT_DIR / name).write_bytes(renamed_stereotypes(ea_xml, names))
+            print(f"wrote {(VARIANT_DIR / name).relative_to(ROOT)}")
     return 0
 
 

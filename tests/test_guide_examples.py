@@ -43,7 +43,12 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "4. Conditions: the predicate language": (
         "primitive-predicates.uml", "fsm.uml", "replication.uml", "predicate-errors.uml",
     ),
-    "5. The three routes side by side": ("route-stereotype.uml", "route-generalisation.uml", "route-suffix.uml"),
+    "Groups of agents and of subsystems (`/ga`, `/gs`)": ("groups.uml",),
+    # the profile's stereotypes, as applied in the Papyrus examples (the EA files are samples/…/variants)
+    "5. Enterprise Architect with the EARL MDG": ("route-stereotype.uml",),
+    # every example's blocks with a state machine are isActive, as the section asks
+    "6. Checking the Papyrus files with Eclipse UML2": ("fsm.uml",),
+    "7. The three routes side by side": ("route-stereotype.uml", "route-generalisation.uml", "route-suffix.uml"),
 }  # fmt: skip
 
 # Every row of the guide's tables (first cell as written) and the example model that shows it.
@@ -58,6 +63,9 @@ TABLE_ROWS: dict[str, str] = {
     "inter-subsystem Link": "route-stereotype.uml",
     "inter-agent Link `/aa`": "inter-agent-links.uml",
     "dataType": "datatypes.uml",
+    # section 2, groups
+    "Agent Group `/ga` (`«AgentGroup»`, the authors' `«GpAgents»`)": "groups.uml",
+    "Subsystem Group `/gs` (`«SubsystemGroup»`, the authors' `«GpSubsys»`)": "groups.uml",
     # section 3
     "FSM `fsm`": "fsm.uml",
     "FSM State `s`": "fsm.uml",

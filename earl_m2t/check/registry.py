@@ -73,7 +73,7 @@ def rule(code: str) -> Callable[[RuleFunction], RuleFunction]:
 
 def python_rules() -> dict[str, RuleFunction]:
     # importing the rule modules registers their functions
-    from earl_m2t.check.rules import activation, behaviour, connection, datatype, transition  # noqa: F401
+    from earl_m2t.check.rules import activation, behaviour, connection, datatype, groups, transition  # noqa: F401
 
     return dict(_PYTHON_RULES)
 

@@ -21,6 +21,7 @@ from earl_m2t.check.registry import catalogue, select_codes
 from earl_m2t.check.user_rules import UserRule, parse_user_rules
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
 from earl_m2t.config import Config, ConfigError, discover, glob_matches, load_config, shown
@@ -41,6 +42,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_config_options(parser)
     parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N", help="check N files at a time")
     add_dialect_option(parser)
+    add_profile_files_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -143,24 +145,25 @@ def options_for_model(args: argparse.Namespace, model: str) -> CheckOptions:
     return settings(args).options_for(model)
 
 
-def check_file(file: str, options: CheckOptions, dialect: str | None) -> Outcome:
+def check_file(file: str, options: CheckOptions, dialect: str | None, profiles: tuple[str, ...] = ()) -> Outcome:
     try:
-        return Outcome(file, check_loaded(load(file, dialect), options))
+        return Outcome(file, check_loaded(load(file, dialect, profiles), options))
     except ModelReadError as exc:
         return Outcome(file, [], exc.one_line(), {"file": exc.file, "line": exc.line, "message": exc.message})
 
 
-def _run_all(files: list[str], setup: Settings, dialect: str | None, jobs: int) -> list[Outcome]:
+def _run_all(files: list[str], setup: Settings, dialect: str | None, jobs: int,
+             profiles: tuple[str, ...] = ()) -> list[Outcome]:
     progress = Progress(len(files), sys.stderr)
     results: dict[str, Outcome] = {}
     try:
         if jobs <= 1 or len(files) <= 1:
             for index, file in enumerate(files, 1):
                 progress.show(index, file)
-                results[file] = check_file(file, setup.options_for(file), dialect)
+                results[file] = check_file(file, setup.options_for(file), dialect, profiles)
         else:
             with ProcessPoolExecutor(max_workers=min(jobs, len(files))) as pool:
-                futures = {pool.submit(check_file, f, setup.options_for(f), dialect): f for f in files}
+                futures = {pool.submit(check_file, f, setup.options_for(f), dialect, profiles): f for f in files}
                 for done, future in enumerate(as_completed(futures), 1):
                     progress.show(done, futures[future])
                     results[futures[future]] = future.result()
@@ -181,7 +184,7 @@ def run(args: argparse.Namespace) -> int:
     files, empty = model_files(args.models)
     for folder in empty:
         print(f"{folder}: warning: no model files found", file=sys.stderr)
-    outcomes = _run_all(files, setup, args.dialect, args.jobs)
+    outcomes = _run_all(files, setup, args.dialect, args.jobs, tuple(args.profiles))
     diagnostics = sorted((d for o in outcomes for d in o.diagnostics), key=Diagnostic.sort_key)
     for outcome in outcomes:
         if outcome.error:

@@ -28,7 +28,7 @@ def read_and_check(args: argparse.Namespace, command: str) -> CheckedModel | int
         print(str(error).splitlines()[0], file=sys.stderr)
         return 2
     try:
-        loaded = load(args.model, getattr(args, "dialect", None))
+        loaded = load(args.model, getattr(args, "dialect", None), getattr(args, "profiles", ()))
     except ModelReadError as error:
         print(f"earl-m2t: {command}: {error}", file=sys.stderr)
         return 2

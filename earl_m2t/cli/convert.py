@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.profile_files_option import add_profile_files_option
 
 FORMATS = ("sysml",)
 
@@ -28,6 +29,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="replace FILE when it exists with other content (it may hold edits)")
     add_dialect_option(parser)
+    add_profile_files_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -38,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.output import OutputError, write_files
 
     try:
-        loaded = load(args.model, args.dialect)
+        loaded = load(args.model, args.dialect, args.profiles)
     except ModelReadError as exc:
         print(exc.one_line(), file=sys.stderr)
         return 2

@@ -1,4 +1,4 @@
-"""``earl-m2t profile --format papyrus|cameo|ea -o DIR``: the EARL profile for a SysML tool.
+"""``earl-m2t profile --format papyrus|cameo|ea|ea-mdg -o DIR``: the EARL profile for a SysML tool.
 
 Generates, from ``profiles/earl.sysml``, the profile file the tool imports and writes it
 into DIR (through :mod:`earl_m2t.output`: atomically, unchanged files left alone). Prints
@@ -16,7 +16,8 @@ from earl_m2t.profile_export.formats import FORMATS
 _FORMAT_HELP = (
     "papyrus: EARL.profile.uml, an Eclipse UML2 profile, defined, for Papyrus; "
     "cameo: EARL.cameo.xmi, UML 2.5 XMI for Cameo Systems Modeler / MagicDraw; "
-    "ea: EARL.ea.xmi, a UML profile in XMI for Enterprise Architect"
+    "ea: EARL.ea.xmi, a UML profile in XMI for Enterprise Architect; "
+    "ea-mdg: EARL.mdg.xml, an MDG Technology for Enterprise Architect"
 )
 
 

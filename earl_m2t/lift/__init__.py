@@ -12,6 +12,7 @@ from earl_m2t.lift.structure import StructureLifter
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.profile import Profile, load_profile
 from earl_m2t.read.xmi import RawModel
+from earl_m2t.stereotypes import Vocabulary
 
 
 @dataclass(frozen=True)
@@ -20,10 +21,13 @@ class LiftResult:
     diagnostics: tuple[Diagnostic, ...]
 
 
-def lift(raw: RawModel, profile: Profile | None = None) -> LiftResult:
-    """Recognise the EARL concepts of a raw model and build the typed EARL model."""
+def lift(raw: RawModel, profile: Profile | None = None, vocabulary: Vocabulary | None = None) -> LiftResult:
+    """Recognise the EARL concepts of a raw model and build the typed EARL model.
+
+    ``vocabulary`` adds the stereotypes of profiles that specialise EARL (``--profile FILE``).
+    """
     profile = profile or load_profile()
-    recogniser = Recogniser(raw, profile)
+    recogniser = Recogniser(raw, profile, vocabulary)
     types = DataTypeLifter(raw)
     structure = StructureLifter(raw, recogniser, types)
     systems = structure.systems()

@@ -8,15 +8,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from earl_m2t.profile import Profile
-from earl_m2t.read.xmi import Element, ExternalRef, RawModel, stereotype_key
+from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+from earl_m2t.stereotypes import Vocabulary
 
 # Package names that hold the EARL *Model* blocks a user model specialises (paper Fig. 1).
 MODEL_PACKAGE_NAMES = frozenset({"model", "earl", "earl model", "earlmodel", "earl::model"})
-
-
-def _key(name: str) -> str:
-    """Match stereotype and block names as tools write them (EA: ``Input_Buffer``, lower case)."""
-    return stereotype_key(name)
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,19 +28,28 @@ NOT_RECOGNISED = Recognition("", "", "")
 class Recogniser:
     """Recognises EARL concepts on raw XMI elements, caching per element id."""
 
-    def __init__(self, raw: RawModel, profile: Profile) -> None:
+    def __init__(self, raw: RawModel, profile: Profile, vocabulary: Vocabulary | None = None) -> None:
         self.raw = raw
         self.profile = profile
-        self._by_key = {_key(name): name for name in profile.concepts}
+        self.vocabulary = vocabulary or Vocabulary(tuple(profile.concepts))
         self._cache: dict[int, Recognition] = {}
+
+    def _concept_named(self, name: str) -> str:
+        """The concept an EARL stereotype or EARL Model block of this name stands for
+        (``ControlSubsystem``, or the authors' ``ContSubsys``)."""
+        return self.vocabulary.earl_concept(name)
 
     # -- the three routes --------------------------------------------------------------------
     def by_stereotype(self, el: Element) -> tuple[str, dict[str, str]]:
         for app in self.raw.applied(el):
             if app.family == "earl":
-                concept = self._by_key.get(_key(app.name))
-                if concept:
-                    return concept, app.tags
+                concept = self._concept_named(app.name)
+            elif app.family == "other":
+                concept = self.vocabulary.specialised_concept(app.profile_uri, app.name)
+            else:
+                continue
+            if concept:
+                return concept, app.tags
         return "", {}
 
     def tags(self, el: Element) -> dict[str, str]:
@@ -63,7 +68,7 @@ class Recogniser:
                 if general is None:
                     continue
                 if isinstance(general, ExternalRef):
-                    concept = self._by_key.get(_key(general.fragment)) or self._external_model_block_concept(general)
+                    concept = self._concept_named(general.fragment) or self._external_model_block_concept(general)
                     if concept:
                         return concept
                     continue
@@ -74,7 +79,7 @@ class Recogniser:
         return ""
 
     def _model_block_concept(self, el: Element) -> str:
-        concept = self._by_key.get(_key(self.raw.name(el)))
+        concept = self._concept_named(self.raw.name(el))
         if not concept:
             return ""
         owner = self.raw.owner(el)
@@ -89,7 +94,7 @@ class Recogniser:
         owners = [segment.strip().lower() for segment in ref.path.split("::")[:-1]]
         if not any(owner in MODEL_PACKAGE_NAMES for owner in owners):
             return ""
-        return self._by_key.get(_key(ref.name), "")
+        return self._concept_named(ref.name)
 
     def by_suffix(self, *names: str) -> str:
         for name in names:

@@ -10,7 +10,19 @@ from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
-from earl_m2t.model.elements import Agent, BasicBehaviour, Buffer, Fsm, Link, Memory, Robot, Subsystem, System
+from earl_m2t.model.elements import (
+    Agent,
+    BasicBehaviour,
+    Buffer,
+    Fsm,
+    Group,
+    GroupMember,
+    Link,
+    Memory,
+    Robot,
+    Subsystem,
+    System,
+)
 from earl_m2t.read.connector_ends import EndTarget, resolve_end
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
@@ -48,6 +60,7 @@ class StructureLifter:
         self._outputs: set[str] = set()  # paths of every Output Buffer lifted so far
         self._templates: dict[str, tuple[str, str]] = {}  # instance path -> (template, instance name)
         self._owners: dict[str, tuple[str, str]] = {}  # buffer path -> (agent path, subsystem path)
+        self._agent_group_blocks: list[Element] = []  # blocks of the Agent Groups met in the system
 
     # -- helpers -----------------------------------------------------------------------------
     def _note(self, code: str, severity: Severity, message: str, el: Element, element: str = "") -> None:
@@ -119,7 +132,7 @@ class StructureLifter:
             if id(block) in used_as_part:
                 continue
             concepts = {self._part_concept(p, t)[0] for p, t in self._parts(block)}
-            if concepts & {"Robot", "Agent"}:
+            if concepts & {"Robot", "Agent", "AgentGroup"}:
                 systems.append(block)
         return systems
 
@@ -128,24 +141,33 @@ class StructureLifter:
         recognition = self.recogniser.recognise(block)
         robots: list[Robot] = []
         agents: list[_AgentInstance] = []
+        groups: list[Group] = []
+        self._agent_group_blocks = []
         for part, part_type in self._parts(block):
             concept, _ = self._part_concept(part, part_type, name)
             if concept == "Robot":
                 for robot_part_name, robot_index in self._instances(part):
                     robot_path = robot_part_name
-                    robot_agents = []
+                    robot_agents: list[str] = []
+                    # agents of replicated robots are told apart by their robot
+                    prefix = f"{robot_path}." if robot_index else ""
                     for agent_part, agent_block in self._parts(part_type):
-                        if self._part_concept(agent_part, agent_block, robot_path)[0] == "Agent":
-                            # agents of replicated robots are told apart by their robot
-                            prefix = f"{robot_path}." if robot_index else ""
-                            for inst in self._agents(agent_part, agent_block, robot_path, part, prefix):
-                                agents.append(inst)
-                                robot_agents.append(inst.agent.path)
+                        agent_concept = self._part_concept(agent_part, agent_block, robot_path)[0]
+                        if agent_concept == "Agent":
+                            found = self._agents(agent_part, agent_block, robot_path, part, prefix)
+                        elif agent_concept == "AgentGroup":
+                            found = self._agent_group(agent_part, agent_block, robot_path, robot_path, prefix, groups)
+                        else:
+                            continue
+                        agents.extend(found)
+                        robot_agents.extend(inst.agent.path for inst in found)
                     robots.append(Robot(robot_part_name, robot_path, self.raw.name(part_type), tuple(robot_agents),
                                         self.raw.location(part), self.recogniser.recognise(part_type).route or "suffix"))
             elif concept == "Agent":
                 agents.extend(self._agents(part, part_type, "", None))
-        links = self._system_links(block, name, agents)
+            elif concept == "AgentGroup":
+                agents.extend(self._agent_group(part, part_type, name, "", "", groups))
+        links = self._system_links(block, name, agents, self._agent_group_blocks)
         linked_agents = {self._owners[end][0] for link in links for end in link.ends if end in self._owners}
         final_agents = []
         for inst in agents:
@@ -155,7 +177,25 @@ class StructureLifter:
             has_r = bool(agent.vr) and bool(agent.rr)
             final_agents.append(replace(agent, computed_type=computed_agent_type(has_e, has_r, has_t)))
         return System(name, name, tuple(robots), tuple(final_agents), tuple(links), self.raw.location(block),
-                      recognition.route or "structure")
+                      recognition.route or "structure", tuple(groups))
+
+    def _agent_group(self, part: Element, block: Element, owner: str, robot: str, prefix: str,
+                     groups: list[Group]) -> list[_AgentInstance]:
+        """The Agents of an Agent Group part; the group itself is added to ``groups``."""
+        path = f"{prefix}{self.raw.name(part)}"
+        if all(b is not block for b in self._agent_group_blocks):
+            self._agent_group_blocks.append(block)
+        agents: list[_AgentInstance] = []
+        held: list[GroupMember] = []
+        for member, member_block in self._parts(block):
+            concept = self._part_concept(member, member_block, path)[0]
+            held.append(GroupMember(self.raw.name(member), concept, self.raw.location(member)))
+            if concept == "Agent":
+                agents.extend(self._agents(member, member_block, robot, part, prefix))
+        groups.append(Group(self.raw.name(part), path, "ga", self.raw.name(block), owner,
+                            tuple(inst.agent.path for inst in agents), tuple(held), self.raw.location(part),
+                            self.recogniser.recognise(block).route or "suffix"))
+        return agents
 
     def _instances(self, part: Element) -> list[tuple[str, int]]:
         lower, upper = multiplicity(self.raw, part)
@@ -171,8 +211,14 @@ class StructureLifter:
                robot_part: Element | None) -> _AgentInstance:
         self._templates[path] = (self.raw.name(part), name)
         subsystem_parts = []
+        group_parts: list[tuple[Element, Element, list[GroupMember], list[Element]]] = []
         for sub_part, sub_block in self._parts(block):
             concept, route = self._part_concept(sub_part, sub_block, path)
+            if concept == "SubsystemGroup":
+                held, grouped = self._subsystem_group(sub_block, f"{path}.{self.raw.name(sub_part)}")
+                subsystem_parts.extend(grouped)
+                group_parts.append((sub_part, sub_block, held, [g[0] for g in grouped]))
+                continue
             kind = self.recogniser.abbreviation(concept) if self.recogniser.is_a(concept, "Subsystem") else ""
             if kind:
                 subsystem_parts.append((sub_part, sub_block, kind, route))
@@ -181,11 +227,31 @@ class StructureLifter:
             for sub_name, index in self._instances(sub_part):
                 instances.append(self._subsystem(sub_part, sub_block, kind, route, path, sub_name, index))
         links = self._agent_links(block, path, instances)
+        groups = []
+        for group_part, group_block, held, members in group_parts:
+            links.extend(self._agent_links(group_block, path, instances))
+            member_paths = tuple(i.subsystem.path for i in instances if any(i.part is m for m in members))
+            groups.append(Group(self.raw.name(group_part), f"{path}.{self.raw.name(group_part)}", "gs",
+                                self.raw.name(group_block), path, member_paths, tuple(held),
+                                self.raw.location(group_part), self.recogniser.recognise(group_block).route or "suffix"))
         tags = self.recogniser.tags(block)
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()
         agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
-                      declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix")
+                      declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix",
+                      tuple(groups))
         return _AgentInstance(agent, part, robot_part, instances)
+
+    def _subsystem_group(self, block: Element, path: str) -> tuple[list[GroupMember], list[tuple[Element, Element, str, str]]]:
+        """The parts of a Subsystem Group's block, and those it contributes to its Agent: Virtual
+        and Real Effectors and Receptors (a Control Subsystem belongs in the Agent itself, S011)."""
+        held: list[GroupMember] = []
+        grouped: list[tuple[Element, Element, str, str]] = []
+        for sub_part, sub_block in self._parts(block):
+            concept, route = self._part_concept(sub_part, sub_block, path)
+            held.append(GroupMember(self.raw.name(sub_part), concept, self.raw.location(sub_part)))
+            if self.recogniser.is_a(concept, "Subsystem") and concept != "ControlSubsystem":
+                grouped.append((sub_part, sub_block, self.recogniser.abbreviation(concept), route))
+        return held, grouped
 
     # -- subsystems --------------------------------------------------------------------------
     def _subsystem(self, part: Element, block: Element, kind: str, route: str, agent_path: str,
@@ -280,9 +346,14 @@ class StructureLifter:
             links.extend(self._links(connector, ends, "agent", agent_path))
         return links
 
-    def _system_links(self, block: Element, system: str, agents: list[_AgentInstance]) -> list[Link]:
+    def _system_links(self, block: Element, system: str, agents: list[_AgentInstance],
+                      group_blocks: list[Element]) -> list[Link]:
+        """Links between agents: connectors of the system block, and of the Agent Groups' blocks."""
+        connectors = self.raw.children(block, "ownedConnector")
+        for group_block in group_blocks:
+            connectors = connectors + self.raw.children(group_block, "ownedConnector")
         links = []
-        for connector in self.raw.in_connector_order(self.raw.children(block, "ownedConnector")):
+        for connector in self.raw.in_connector_order(connectors):
             ends = [self._nested_end_buffers(e, agents) for e in self.raw.children(connector, "end")]
             links.extend(self._links(connector, ends, "system", system))
         return links

@@ -301,6 +301,35 @@ class Link:
 
 
 @dataclass(frozen=True, slots=True)
+class GroupMember:
+    """A part of a group's block: its name, the EARL concept it was recognised as ("" for none)
+    and where it is."""
+
+    name: str
+    concept: str
+    location: Location
+
+
+@dataclass(frozen=True, slots=True)
+class Group:
+    """An Agent Group (``kind`` ``ga``, the authors' GpAgents; in the System or a Robot) or a
+    Subsystem Group (``gs``, GpSubsys; in an Agent): a part whose block gathers Agents or
+    Subsystems. The group only structures the model: ``members`` are the paths of the Agents or
+    Subsystems it contributes to its ``owner`` (a system, robot or agent path); ``parts`` are
+    all parts of its block, those it may not hold included (rules S010, S011)."""
+
+    name: str
+    path: str
+    kind: str
+    block: str
+    owner: str
+    members: tuple[str, ...]
+    parts: tuple[GroupMember, ...]
+    location: Location
+    recognised_by: str
+
+
+@dataclass(frozen=True, slots=True)
 class Agent:
     name: str
     path: str
@@ -312,6 +341,7 @@ class Agent:
     computed_type: str
     location: Location
     recognised_by: str
+    groups: tuple[Group, ...] = ()  # Subsystem Groups
 
     def of_kind(self, kind: str) -> tuple[Subsystem, ...]:
         return tuple(s for s in self.subsystems if s.kind == kind)
@@ -356,6 +386,7 @@ class System:
     links: tuple[Link, ...]  # inter-agent links
     location: Location
     recognised_by: str
+    groups: tuple[Group, ...] = ()  # Agent Groups, in the system or in its robots
 
 
 @dataclass(frozen=True)

@@ -383,6 +383,48 @@ def ea_context(spec: ProfileSpec, target: Target) -> Context:
     return context
 
 
+# EA's tagged value types for the UML primitive types of the tags.
+_EA_TAG_TYPES = {"Integer": "int", "Real": "double", "Boolean": "boolean", "String": "string"}
+
+
+def ea_mdg_context(spec: ProfileSpec, target: Target) -> Context:
+    """An MDG Technology holding the profile as Enterprise Architect's ``<UMLProfile>``: each
+    stereotype with the metaclasses it applies to, its more general stereotypes and its tags
+    (EA keeps one text per tag: multi-valued tags list their values separated by spaces)."""
+    literals = {e.name: e.literals for e in spec.enumerations}
+    stereotypes = []
+    for stereotype in spec.stereotypes:
+        tags = []
+        for tag in stereotype.tags:
+            if tag.enumeration:
+                kind, values = "enumeration", ",".join(literals[tag.enumeration])
+            else:
+                kind, values = _EA_TAG_TYPES.get(tag.primitive or "", "string"), ""
+            many = " (several: separated by spaces)" if tag.upper is None or tag.upper > 1 else ""
+            tags.append({"name": tag.name, "type": kind, "literals": values,
+                         "default": tag.default.text if tag.default is not None else "",
+                         "description": f"multiplicity {_multiplicity(tag)}{many}"})
+        stereotypes.append({
+            "name": stereotype.name,
+            "notes": stereotype.doc,
+            "abstract": stereotype.abstract,
+            "generalizes": ",".join(stereotype.generals),
+            "metaclasses": list(stereotype.metaclasses),
+            "tags": tags,
+        })
+    version = target.version
+    return {
+        "technology": {"id": spec.name, "name": spec.name, "version": version, "notes": spec.doc},
+        "profile": {"id": f"{spec.name}-{version}", "name": spec.name, "version": version, "notes": spec.doc},
+        "stereotypes": stereotypes,
+    }
+
+
+def _multiplicity(tag: TagSpec) -> str:
+    upper = "*" if tag.upper is None else str(tag.upper)
+    return str(tag.lower) if upper == str(tag.lower) else f"{tag.lower}..{upper}"
+
+
 def _exporter() -> Context:
     return {"name": "earl-m2t", "version": __version__}
 
@@ -391,6 +433,7 @@ CONTEXTS: dict[str, Callable[[ProfileSpec, Target], Context]] = {
     "papyrus": papyrus_context,
     "cameo": cameo_context,
     "ea": ea_context,
+    "ea-mdg": ea_mdg_context,
 }
 # The values of --format, in the order the help lists them.
 FORMATS: tuple[str, ...] = tuple(CONTEXTS)

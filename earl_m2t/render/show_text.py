@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from itertools import groupby
 
-from earl_m2t.model.elements import Activation, Buffer, DataType, EarlModel, Link, Subsystem
+from earl_m2t.model.elements import Activation, Buffer, DataType, EarlModel, Group, Link, Subsystem
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:
@@ -32,9 +32,11 @@ def render_model(model: EarlModel) -> str:
             for _, group in groupby(agent.subsystems, key=lambda s: (s.block_id, s.template)):
                 instances = list(group)
                 lines.extend(_subsystem(instances))
+            lines.extend(_group(group, "    ") for group in agent.groups)
             if agent.links:
                 lines.append("    links")
                 lines.extend(_link(link, "      ") for link in agent.links)
+        lines.extend(_group(group, "  ") for group in system.groups)
         if system.links:
             lines.append("  inter-agent links")
             lines.extend(_link(link, "    ") for link in system.links)
@@ -42,6 +44,11 @@ def render_model(model: EarlModel) -> str:
         lines.append("datatypes")
         lines.extend(_datatype(d) for d in model.datatypes.values())
     return "\n".join(lines) + "\n"
+
+
+def _group(group: Group, indent: str) -> str:
+    members = ", ".join(m.rpartition(".")[2] if group.kind == "gs" else m for m in group.members)
+    return f"{indent}group {group.kind} {group.name} [{group.block}] in {group.owner}: {members or '(empty)'}"
 
 
 def _subsystem(instances: list[Subsystem]) -> list[str]:

@@ -32,6 +32,7 @@ class FsmWriter:
         machine = self.uml.child(block.element, "ownedBehavior", "StateMachine", node, name)
         if not block.element.get("classifierBehavior"):
             block.element.set("classifierBehavior", machine.get(ID) or "")
+            block.element.set("isActive", "true")  # a block running its own state machine is active (UML)
         self.uml.annotations(machine, node)
         region = self.uml.child(machine, "region", "Region", None)
         body: list[Any] = []

@@ -1022,6 +1022,39 @@ def construct_outside_the_subset(text: str) -> tuple[str, str]:
 
 # ---- the table --------------------------------------------------------------------------
 
+# ---- S010, S011: groups ------------------------------------------------------------------
+
+
+def _group(s: Sample, owner: str, part_name: str, block_name: str, stereotype: str,
+           held: list[tuple[str, str]]) -> etree._Element:
+    """A new group block ``block_name`` «stereotype» holding parts (name, block), and a part
+    ``part_name`` of block ``owner`` typed by it; returns the group block."""
+    anchor = s.block(owner)
+    block = s.add(anchor.getparent(), "packagedElement", "uml:Class", after=anchor, name=block_name)
+    for name, type_name in held:
+        s.add(block, "ownedAttribute", "uml:Property", name=name, type=s.id(s.block(type_name)),
+              aggregation="composite")
+    s.apply(stereotype, "Class", block)
+    s.add(anchor, "ownedAttribute", "uml:Property", after=anchor.xpath("ownedAttribute")[-1], name=part_name,
+          type=s.id(block), aggregation="composite")
+    return block
+
+
+def agent_group_holds_a_subsystem(s: Sample) -> Expect:
+    """S010: the System gets an Agent Group mirror/ga whose block holds motorController/ve, a
+    Virtual Effector outside any Agent, and no Agent."""
+    block = _group(s, "PickAndPlaceSystem", "mirror/ga", "Mirror", "AgentGroup",
+                   [("motorController/ve", "MotorController")])
+    return Expect(s.id(block.xpath("ownedAttribute")[0]), "motorController/ve")
+
+
+def subsystem_group_holds_the_control_subsystem(s: Sample) -> Expect:
+    """S011: GripperAgent gets a Subsystem Group spare/gs whose block holds a cs typed by
+    GripperControl: the Control Subsystem belongs in the Agent itself."""
+    block = _group(s, "GripperAgent", "spare/gs", "SpareDrivers", "SubsystemGroup", [("cs", "GripperControl")])
+    return Expect(s.id(block.xpath("ownedAttribute")[0]), "ControlSubsystem")
+
+
 Mutation = Callable[[Sample], Expect]
 
 VARIANTS: dict[str, Mutation] = {
@@ -1034,6 +1067,8 @@ VARIANTS: dict[str, Mutation] = {
     "S007": declared_type_mismatch,
     "S008": virtual_effector_without_output,
     "S009": untyped_memory,
+    "S010": agent_group_holds_a_subsystem,
+    "S011": subsystem_group_holds_the_control_subsystem,
     "C001": link_between_two_outputs,
     "C001-two-inputs": link_between_two_inputs,
     "C001-memory-end": link_to_a_memory,

@@ -1048,6 +1048,7 @@ class _CameoWriter:
         node = _typed(
             "packagedElement", "uml:Class", self.id(block), ("name", block.name),
             ("classifierBehavior", self.id(cb) if cb is not None else None),
+            ("isActive", "true" if cb is not None else None),
         )  # fmt: skip
         self.apps.append(_CameoApp("sysml:Block", "base_Class", self.id(block)))
         self.apply_earl(block)

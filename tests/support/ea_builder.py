@@ -412,7 +412,8 @@ class _EAWriter:
 
     def block(self, block: Block) -> XmlNode:
         block_id = self.id(block)
-        node = _typed("packagedElement", "uml:Class", block_id, ("name", block.name), ("visibility", "public"))
+        node = _typed("packagedElement", "uml:Class", block_id, ("name", block.name), ("visibility", "public"),
+                      ("isActive", "true" if block.classifier_behavior is not None else None))
         self.apps.append(XmlNode(f"{SYSML_PREFIX}:block", [("base_Class", block_id)]))
         earl = self.stereotypes_of(block)
         values = [p for p in block.attributes if p.is_value]

@@ -117,6 +117,8 @@ EARL_STEREOTYPES: Mapping[str, str] = {
     "RealEffector": "Class",
     "VirtualReceptor": "Class",
     "RealReceptor": "Class",
+    "AgentGroup": "Class",
+    "SubsystemGroup": "Class",
     "InputBuffer": "Port",
     "OutputBuffer": "Port",
     "InternalMemory": "Property",
@@ -810,15 +812,22 @@ class Block(Element):
     def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:
         """A «BufferGroup» constraint: the Input Buffers an iteration waits for and those it reads
         when new (tags holding the buffer names)."""
-        rule = Constraint(self.builder, self, name, None)
+        tags = {"obligatory": " ".join(p.name or "" for p in obligatory),
+                "optional": " ".join(p.name or "" for p in optional)}
+        # UML requires a Constraint's specification: the group in words (the tags are what counts)
+        body = "; ".join(f"{role}: {names}" for role, names in tags.items() if names)
+        rule = Constraint(self.builder, self, name, body, "Natural language")
         self.rules.append(rule)
-        rule.stereotype("BufferGroup", {"obligatory": " ".join(p.name or "" for p in obligatory),
-                                        "optional": " ".join(p.name or "" for p in optional)})
+        rule.stereotype("BufferGroup", tags)
         return rule
 
     def _render(self, tag: str) -> _Node:
         cb = self.classifier_behavior
-        node = _typed(tag, self.xmi_type, self.id, ("name", self.name), ("classifierBehavior", cb.id if cb else None))
+        # a block whose behaviour is a state machine runs it on its own: Eclipse UML2's validation
+        # wants such a classifier active (EMF writes isActive after classifierBehavior)
+        active = "true" if isinstance(cb, StateMachine) and self.xmi_type == "uml:Class" else None
+        node = _typed(tag, self.xmi_type, self.id, ("name", self.name), ("classifierBehavior", cb.id if cb else None),
+                      ("isActive", active))
         self._comment_nodes(node)
         for rule in self.rules:
             node.add(rule._render("ownedRule"))

@@ -3,10 +3,11 @@
 Four kinds of diagram, each named by the anchor of its element (see
 :mod:`earl_m2t.gen.views.anchors`):
 
-- ``system``: the agents (with their Table 2 type), grouped by robot, and the inter-agent
-  links labelled with their dataType;
-- ``agent-<agent>``: the agent's subsystems grouped by kind, each with its buffers, and the
-  inter-subsystem links from Output Buffer to Input Buffer labelled with their dataType;
+- ``system``: the agents (with their Table 2 type), grouped by robot and by Agent Group, and
+  the inter-agent links labelled with their dataType;
+- ``agent-<agent>``: the agent's subsystems grouped by kind, each with its buffers (and the
+  Subsystem Group it belongs to), and the inter-subsystem links from Output Buffer to Input
+  Buffer labelled with their dataType;
 - ``fsm-<subsystem>``: the FSM of a subsystem definition: states with their basic
   behaviour, the initial state, transitions labelled with condition and priority;
 - ``tf-<behaviour>``: a basic behaviour's transition function: its pf stage by stage, what
@@ -50,7 +51,16 @@ def _system(model: EarlModel, tables: SpecTables) -> Diagram:
     ids = {row.name: f"a{i}" for i, row in enumerate(tables.agent_types)}
     agents = [{"id": ids[row.name], "name": row.name, "type": row.type, "description": row.description,
                "block": row.block} for row in tables.agent_types]
-    robots = [{"id": f"cluster_r{i}", "name": robot.name, "agents": [ids[a] for a in robot.agents if a in ids]}
+    groups = [group for system in model.systems for group in system.groups]
+    grouped = {member for group in groups for member in group.members}
+
+    def agent_groups(owner: str) -> list[dict[str, Any]]:
+        return [{"id": f"cluster_g{i}", "name": group.name,
+                 "agents": [ids[a] for a in group.members if a in ids]}
+                for i, group in enumerate(groups) if group.owner == owner]
+
+    robots = [{"id": f"cluster_r{i}", "name": robot.name, "groups": agent_groups(robot.path),
+               "agents": [ids[a] for a in robot.agents if a in ids and a not in grouped]}
               for i, robot in enumerate(model.robots)]
     links = []
     for link in tables.links:
@@ -61,7 +71,7 @@ def _system(model: EarlModel, tables: SpecTables) -> Diagram:
                       "name": link.name})
     return Diagram(name="system", kind="system", title=f"system {tables.system}", element=tables.system_anchor,
                    context={"title": f"{tables.system}: agents and inter-agent links", "agents": agents,
-                            "robots": robots, "links": links})
+                            "robots": robots, "groups": agent_groups(tables.system), "links": links})
 
 
 def _agent(model: EarlModel, agent: Agent, tables: SpecTables) -> Diagram:
@@ -69,6 +79,7 @@ def _agent(model: EarlModel, agent: Agent, tables: SpecTables) -> Diagram:
     node_of: dict[str, str] = {}  # subsystem path -> node id
     port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (node id, port)
     groups = []
+    group_of = {member: group.name for group in agent.groups for member in group.members}
     for kind in SUBSYSTEM_KINDS:
         members = []
         for sub in agent.of_kind(kind):
@@ -81,7 +92,7 @@ def _agent(model: EarlModel, agent: Agent, tables: SpecTables) -> Diagram:
                 datatype = model.datatypes.get(buf.datatype)
                 buffers.append({"port": port, "name": buf.name, "direction": buf.direction,
                                 "datatype": datatype.name if datatype else (buf.type_ref or "?")})
-            members.append({"id": node, "name": sub.name, "block": sub.block,
+            members.append({"id": node, "name": sub.name, "block": sub.block, "group": group_of.get(sub.path, ""),
                             "inputs": [b for b in buffers if b["direction"] == "in"],
                             "outputs": [b for b in buffers if b["direction"] == "out"]})
         if members:

@@ -47,6 +47,17 @@ class AgentTypeRow:
 
 
 @dataclass(frozen=True)
+class GroupRow:
+    """An Agent Group or a Subsystem Group: what it gathers, for which system, robot or agent."""
+
+    name: str
+    kind: str  # "agent group" | "subsystem group"
+    block: str
+    owner: str
+    members: tuple[str, ...]  # agent paths, or subsystem names within the owner
+
+
+@dataclass(frozen=True)
 class StorageRow:
     """A buffer or memory (Table 4 for memory); replicated ones once, with their count."""
 
@@ -199,6 +210,7 @@ class SpecTables:
     links: tuple[LinkRow, ...]  # inter-agent links
     agents: tuple[AgentTables, ...]
     anchors: AnchorIndex
+    groups: tuple[GroupRow, ...] = ()
 
     @property
     def subsystems(self) -> tuple[SubsystemTables, ...]:
@@ -216,7 +228,18 @@ def build_tables(model: EarlModel) -> SpecTables:
                       system=system_name, system_anchor=system_anchor,
                       kinds=dict(wording()["kinds"]),
                       agent_types=tuple(_agent_type(model, agent, anchors) for agent in model.agents),
-                      links=links, agents=agents, anchors=anchors)
+                      links=links, agents=agents, anchors=anchors, groups=_groups(model))
+
+
+def _groups(model: EarlModel) -> tuple[GroupRow, ...]:
+    rows = []
+    for system in model.systems:
+        groups = [*system.groups, *(group for agent in system.agents for group in agent.groups)]
+        for group in groups:
+            members = tuple(m.removeprefix(f"{group.owner}.") for m in group.members)
+            rows.append(GroupRow(group.name, "agent group" if group.kind == "ga" else "subsystem group",
+                                 group.block, group.owner, members))
+    return tuple(rows)
 
 
 def activation_text(activation: Activation) -> str:
