@@ -21,6 +21,9 @@ from earl_m2t.cli import report as report_command
 from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
+from earl_m2t.cli.read_options import read_policy
+from earl_m2t.deep_stack import call_with_deep_stack
+from earl_m2t.read.bounded import reading_with
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -69,7 +72,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
     try:
-        return int(args.run(args))
+        with reading_with(read_policy(args)):
+            return call_with_deep_stack(lambda: int(args.run(args)))
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:

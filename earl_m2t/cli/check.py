@@ -21,6 +21,7 @@ from earl_m2t.check.registry import catalogue, select_codes
 from earl_m2t.check.user_rules import UserRule, parse_user_rules
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
 from earl_m2t.config import Config, ConfigError, discover, glob_matches, load_config, shown
@@ -41,6 +42,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_config_options(parser)
     parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N", help="check N files at a time")
     add_dialect_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.read_options import add_read_options
 
 FORMATS = ("sysml",)
 
@@ -28,6 +29,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="replace FILE when it exists with other content (it may hold edits)")
     add_dialect_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

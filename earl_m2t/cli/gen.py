@@ -15,6 +15,7 @@ from pathlib import Path
 
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.cli.gen_targets import gen_targets
 
 
@@ -33,6 +34,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                         help="generate even when the model has error findings")
     add_config_options(parser)
     add_dialect_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.read_options import add_read_options
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -28,6 +29,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                         help="a folder of report templates searched before the built-in ones")
     add_config_options(parser)
     add_dialect_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

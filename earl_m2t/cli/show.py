@@ -8,6 +8,7 @@ import sys
 
 from earl_m2t.api import load
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.export import model_to_dict
 from earl_m2t.render.show_text import render_model
@@ -18,6 +19,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("model", metavar="MODEL")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     add_dialect_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

@@ -73,9 +73,15 @@ def ascii_fold(text: str) -> str:
 def words(name: str) -> list[str]:
     """The words of a name: ``jointPosSetpoint`` → joint Pos Setpoint, ``XMLParser`` → XML Parser."""
     text = ascii_fold(identifier(name.strip()))
-    text = re.sub(r"([a-z0-9])([A-Z])", r"\1 \2", text)
-    text = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", text)
+    text = _LOWER_UPPER.sub(r"\1 \2", text)
+    text = _ACRONYM_END.sub(r"\1 ", text)
     return [w for w in re.split(r"[^A-Za-z0-9]+", text) if w]
+
+
+# Linear in the length of the name: every pattern looks at a fixed number of characters from
+# each position (``([A-Z]+)([A-Z][a-z])`` backtracked over long capital runs: quadratic).
+_LOWER_UPPER = re.compile(r"([a-z0-9])([A-Z])")
+_ACRONYM_END = re.compile(r"([A-Z])(?=[A-Z][a-z])")  # XMLParser → XML Parser
 
 
 def message_name(name: str) -> str:

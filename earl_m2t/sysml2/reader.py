@@ -38,10 +38,6 @@ class Sysml2ReadError(ModelReadError):
 def read_sysml2(path: Path) -> RawModel:
     """The raw model of a ``.sysml`` file; raises :class:`Sysml2ReadError` when unreadable."""
     file = str(path)
-    if path.is_dir():
-        raise ModelReadError(file, "is a directory, not a model file")
-    if not path.exists():
-        raise ModelReadError(file, "no such file")
     try:
         root = parse_file(path, model=True)
     except Sysml2SyntaxError as error:
