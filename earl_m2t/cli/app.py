@@ -24,6 +24,7 @@ from earl_m2t.cli import stats as stats_command
 from earl_m2t.cli.read_options import read_policy
 from earl_m2t.deep_stack import call_with_deep_stack
 from earl_m2t.read.bounded import reading_with
+from earl_m2t.shorten import shortened_words
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -79,5 +80,5 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         return EXIT_OK
     except Exception as exc:  # a bug in earl-m2t: still one line, never a traceback
-        print(f"earl-m2t: internal error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        print(shortened_words(f"earl-m2t: internal error: {type(exc).__name__}: {exc}").splitlines()[0], file=sys.stderr)
         return EXIT_INTERNAL

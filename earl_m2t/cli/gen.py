@@ -44,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.gen import GenError, generate
     from earl_m2t.output import OutputError
     from earl_m2t.render.diagnostics import text_line
+    from earl_m2t.shorten import shortened_words
 
     checked = read_and_check(args, "gen")
     if isinstance(checked, int):
@@ -59,10 +60,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         report = generate(loaded.model, args.output, args.target, args.templates, strict=not args.force)
     except GenError as error:
-        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        print(shortened_words(f"earl-m2t: gen: {error}"), file=sys.stderr)
         return 1
     except OutputError as error:
-        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        for line in error.partial.lines() if error.partial is not None else ():
+            print(line)  # what was written before the failure
+        print(shortened_words(f"earl-m2t: gen: {error}"), file=sys.stderr)
         return 2
     for line in report.lines():
         print(line)

@@ -45,6 +45,25 @@ def identifier_problem(name: str) -> str:
     return ""
 
 
+def length_problem(name: str) -> str:
+    """Why a name is too long for the generated files (rule D005), or "" when it is not."""
+    limit = int(_table()["max_length"])
+    length = len(ascii_fold(identifier(name.strip())))
+    if length <= limit:
+        return ""
+    return f"its generated identifier has {length} characters, more than the {limit} every target can use in file names"
+
+
+def windows_reserved(name: str) -> str:
+    """The Windows device name (``COM1``, ``NUL`` …) a name's files would be called, or ""."""
+    reserved = {word.upper() for word in _table()["windows_reserved"]}
+    for candidate in (sanitised(name), re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(identifier_stem(name.strip()))),
+                      field_name(name), message_name(name)):
+        if candidate.upper() in reserved:
+            return candidate
+    return ""
+
+
 def sanitised(name: str) -> str:
     """The identifier a generator derives: non-identifier characters become '_'."""
     return re.sub(r"[^A-Za-z0-9_]", "_", identifier(name))
