@@ -179,7 +179,7 @@ def _worker(connection: Connection, seed_number: int, pool: list[Seed], folder: 
             return
         case = make_case(seed_number, index, pool)
         code, message = run_case(case, place)
-        connection.send((index, code, message))
+        connection.send((index, code, message, case.seed.dialect, case.command[0]))
 
 
 @dataclass
@@ -201,12 +201,15 @@ class Campaign:
         self.jobs = max(jobs, 1)
         self._context = multiprocessing.get_context("fork")
 
-    def run(self, first: int, count: int, progress: bool = False) -> list[Result]:
+    def run(self, first: int, count: int, progress: bool = False, regressions: Path | None = None) -> list[Result]:
+        """Run the inputs; with ``progress``, a summary so far every 5,000 inputs on stderr; with
+        ``regressions``, each failing input is saved there as soon as it is found."""
         pending = list(range(first + count - 1, first - 1, -1))
         results: list[Result] = []
         scratch = Path(tempfile.mkdtemp(prefix="earl-m2t-fuzz-"))
         workers: dict[int, tuple[multiprocessing.process.BaseProcess, Connection, int, float]] = {}
         started = time.monotonic()
+        saved = reported = 0
         try:
             slot_numbers = iter(range(1 << 30))
             while pending or workers:
@@ -224,13 +227,13 @@ class Campaign:
                 for slot, (process, connection, index, since) in list(workers.items()):
                     if connection in ready:
                         try:
-                            done, code, message = connection.recv()
+                            done, code, message, dialect, command = connection.recv()
                         except (EOFError, OSError):  # the worker died (a crash in C code, a kill)
                             process.join()
                             results.append(self._result(index, 3, f"worker died (exit {process.exitcode})"))
                             del workers[slot]
                             continue
-                        results.append(self._result(done, code, message))
+                        results.append(Result(done, dialect, command, code, message))
                         if pending:
                             index = pending.pop()
                             connection.send(index)
@@ -244,9 +247,16 @@ class Campaign:
                         process.join()
                         results.append(self._result(index, -1, f"no result within {self.bound:g} s: a hang"))
                         del workers[slot]
-                if progress and results and len(results) % 1000 == 0:
+                while saved < len(results):
+                    if regressions is not None and results[saved].code not in (0, 1, 2):
+                        found = self.save(results[saved], regressions)
+                        print(f"input {results[saved].index} ({results[saved].command}): {results[saved].message} "
+                              f"-> {found}", file=sys.stderr, flush=True)
+                    saved += 1
+                if progress and len(results) >= reported + 5000:
+                    reported = len(results) - len(results) % 5000
                     rate = len(results) / max(time.monotonic() - started, 1e-9)
-                    print(f"{len(results)} inputs, {rate:.1f}/s", file=sys.stderr, flush=True)
+                    print(f"{len(results)} inputs, {rate:.1f}/s; so far:\n{summary(results)}", file=sys.stderr, flush=True)
         finally:
             for process, connection, _, _ in workers.values():
                 process.kill()
@@ -308,11 +318,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"fuzz: seed {args.seed}, inputs {args.first}..{args.first + args.inputs - 1}, {len(pool)} seed files, "
           f"{args.jobs} worker(s), bound {args.bound:g} s", file=sys.stderr, flush=True)
     campaign = Campaign(args.seed, pool, args.bound, args.jobs)
-    results = campaign.run(args.first, args.inputs, progress=True)
+    results = campaign.run(args.first, args.inputs, progress=True, regressions=args.regressions)
     bad = failures(results)
-    for result in bad:
-        saved = campaign.save(result, args.regressions)
-        print(f"input {result.index} ({result.command}): {result.message} -> {saved}", file=sys.stderr)
     print(summary(results))
     return 1 if bad else 0
 
