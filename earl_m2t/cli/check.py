@@ -26,6 +26,7 @@ from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
 from earl_m2t.config import Config, ConfigError, discover, glob_matches, load_config, shown
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity, SourceTextError
+from earl_m2t.read.bounded import ReadPolicy, current_policy, reading_with
 from earl_m2t.render.diagnostics import FORMATS, CheckReport
 
 
@@ -76,6 +77,11 @@ class Settings:
     options: CheckOptions
     config: Config = field(default_factory=Config)
     per_file: tuple[tuple[str, frozenset[str]], ...] = ()
+
+    def read_policy(self) -> ReadPolicy:
+        """The command line's read policy with the configuration's ``allow-outside`` folders added."""
+        given = current_policy()
+        return dataclasses.replace(given, allow_outside=given.allow_outside + self.config.allow_outside)
 
     def options_for(self, model: str) -> CheckOptions:
         relative = self.config.relative(Path(model))
@@ -139,15 +145,17 @@ class Outcome:
     unreadable: dict[str, object] | None = None
 
 
-def options_for_model(args: argparse.Namespace, model: str) -> CheckOptions:
-    """The options one model is checked with by ``gen`` and ``report``. Raises ConfigError,
-    UsageError or SourceTextError (one line each)."""
-    return settings(args).options_for(model)
+def options_for_model(args: argparse.Namespace, model: str) -> tuple[CheckOptions, ReadPolicy]:
+    """The options one model is checked with by ``gen`` and ``report``, and the read policy it is
+    read with. Raises ConfigError, UsageError or SourceTextError (one line each)."""
+    setup = settings(args)
+    return setup.options_for(model), setup.read_policy()
 
 
-def check_file(file: str, options: CheckOptions, dialect: str | None) -> Outcome:
+def check_file(file: str, options: CheckOptions, dialect: str | None, policy: ReadPolicy) -> Outcome:
     try:
-        return Outcome(file, check_loaded(load(file, dialect), options))
+        with reading_with(policy):
+            return Outcome(file, check_loaded(load(file, dialect), options))
     except ModelReadError as exc:
         return Outcome(file, [], exc.one_line(), {"file": exc.file, "line": exc.line, "message": exc.message})
 
@@ -159,10 +167,11 @@ def _run_all(files: list[str], setup: Settings, dialect: str | None, jobs: int) 
         if jobs <= 1 or len(files) <= 1:
             for index, file in enumerate(files, 1):
                 progress.show(index, file)
-                results[file] = check_file(file, setup.options_for(file), dialect)
+                results[file] = check_file(file, setup.options_for(file), dialect, setup.read_policy())
         else:
             with ProcessPoolExecutor(max_workers=min(jobs, len(files))) as pool:
-                futures = {pool.submit(check_file, f, setup.options_for(f), dialect): f for f in files}
+                futures = {pool.submit(check_file, f, setup.options_for(f), dialect, setup.read_policy()): f
+                           for f in files}
                 for done, future in enumerate(as_completed(futures), 1):
                     progress.show(done, futures[future])
                     results[futures[future]] = future.result()
