@@ -164,7 +164,8 @@ def run_case(case: Case, folder: Path) -> tuple[int, str]:
     text = stderr.getvalue()
     internal = next((line for line in text.splitlines() if "internal error" in line), "")
     if code not in (0, 1, 2) or internal:
-        return (code if code not in (0, 1, 2) else 3), (internal or text.strip().splitlines()[:1] or [""])[0][:400]
+        first = internal or next(iter(text.strip().splitlines()), "")
+        return (code if code not in (0, 1, 2) else 3), first[:400]
     return code, ""
 
 
