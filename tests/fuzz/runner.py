@@ -4,9 +4,10 @@ through the command line in-process, in worker processes watched by a per-input 
 Input ``i`` of seed ``s`` is fully determined by ``(s, i)``: which seed file, which mutations,
 which command (mostly ``check``; also ``show``, ``convert`` and ``gen --force`` for a target).
 Each worker runs its inputs one after the other in one process (``earl_m2t.cli.app.main``, output
-captured), under an address-space limit; the parent gives every input a generous bound
-(``--bound``, 60 s) and counts one that takes longer as a hang: the worker is killed and a new one
-goes on with the next input. An input counts as a failure when the command ends in an internal
+captured), under an address-space limit; the parent gives every input a generous bound of the
+worker's CPU time (``--bound``, 60 s; a worker starved by a busy machine is not counted) and of
+wall time (``WALL_FACTOR`` times as long: an input blocked without using the CPU), and counts an
+input that exceeds either as a hang: the worker is killed and a new one goes on with the next input. An input counts as a failure when the command ends in an internal
 error (exit 3, or an exception escaping ``main``), in an exit code other than 0, 1 or 2, or in a
 hang; failing inputs are written to the regression folder (``tests/fuzz/regressions``), which
 ``tests/test_fuzz.py`` replays.
@@ -47,6 +48,18 @@ MODEL_SUFFIXES = (".uml", ".xmi", ".xml", ".mdzip", ".sysml")
 GEN_TARGETS = ("cpp", "msg", "ros", "orocos", "markdown")
 ADDRESS_SPACE = 6 << 30  # a worker's limit: a runaway read ends in MemoryError, counted as a failure
 DEFAULT_BOUND = 60.0
+WALL_FACTOR = 15
+_TICKS = os.sysconf("SC_CLK_TCK")
+
+
+def cpu_seconds(pid: int) -> float:
+    """User and system CPU time of a running process (0 when it cannot be read)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as stream:
+            fields = stream.read().rsplit(b")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / _TICKS
+    except (OSError, IndexError, ValueError):
+        return 0.0
 
 
 @dataclass(frozen=True)
@@ -208,7 +221,8 @@ class Campaign:
         pending = list(range(first + count - 1, first - 1, -1))
         results: list[Result] = []
         scratch = Path(tempfile.mkdtemp(prefix="earl-m2t-fuzz-"))
-        workers: dict[int, tuple[multiprocessing.process.BaseProcess, Connection, int, float]] = {}
+        # slot -> (worker, its connection, the input it runs, wall clock and worker CPU time when it began)
+        workers: dict[int, tuple[multiprocessing.process.BaseProcess, Connection, int, float, float]] = {}
         started = time.monotonic()
         saved = reported = 0
         try:
@@ -223,9 +237,9 @@ class Campaign:
                     child.close()
                     index = pending.pop()
                     parent.send(index)
-                    workers[slot] = (process, parent, index, time.monotonic())
+                    workers[slot] = (process, parent, index, time.monotonic(), 0.0)
                 ready = multiprocessing.connection.wait([w[1] for w in workers.values()], timeout=1.0)
-                for slot, (process, connection, index, since) in list(workers.items()):
+                for slot, (process, connection, index, since, cpu_since) in list(workers.items()):
                     if connection in ready:
                         try:
                             done, code, message, dialect, command = connection.recv()
@@ -238,15 +252,18 @@ class Campaign:
                         if pending:
                             index = pending.pop()
                             connection.send(index)
-                            workers[slot] = (process, connection, index, time.monotonic())
+                            workers[slot] = (process, connection, index, time.monotonic(),
+                                             cpu_seconds(process.pid or 0))
                         else:
                             connection.send(None)
                             process.join()
                             del workers[slot]
-                    elif time.monotonic() - since > self.bound:
+                    elif (cpu_seconds(process.pid or 0) - cpu_since > self.bound
+                          or time.monotonic() - since > self.bound * WALL_FACTOR):
                         process.kill()
                         process.join()
-                        results.append(self._result(index, -1, f"no result within {self.bound:g} s: a hang"))
+                        results.append(self._result(index, -1, f"no result within {self.bound:g} s of CPU time "
+                                                               f"or {self.bound * WALL_FACTOR:g} s: a hang"))
                         del workers[slot]
                 while saved < len(results):
                     if regressions is not None and results[saved].code not in (0, 1, 2):
@@ -259,7 +276,7 @@ class Campaign:
                     rate = len(results) / max(time.monotonic() - started, 1e-9)
                     print(f"{len(results)} inputs, {rate:.1f}/s; so far:\n{summary(results)}", file=sys.stderr, flush=True)
         finally:
-            for process, connection, _, _ in workers.values():
+            for process, connection, _, _, _ in workers.values():
                 process.kill()
                 process.join()
             shutil.rmtree(scratch, ignore_errors=True)
@@ -276,9 +293,11 @@ class Campaign:
         folder.mkdir(parents=True, exist_ok=True)
         path = folder / f"{result.dialect}-{digest}{case.suffix}"
         path.write_bytes(case.data)
+        origin = case.seed.path
+        shown = origin.relative_to(ROOT) if origin.is_relative_to(ROOT) else \
+            origin.relative_to(CORPUS.parent.parent) if origin.is_relative_to(CORPUS) else Path(origin.name)
         note = {"command": list(case.command), "seed": self.seed_number, "input": result.index,
-                "from": str(case.seed.path.relative_to(ROOT.parent)) if case.seed.path.is_relative_to(ROOT.parent)
-                else case.seed.path.name, "found": result.message, "exit": result.code}
+                "from": shown.as_posix(), "found": result.message, "exit": result.code}
         path.with_name(path.name + ".json").write_text(json.dumps(note, indent=2, ensure_ascii=False) + "\n",
                                                         encoding="utf-8")
         return path
