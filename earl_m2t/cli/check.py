@@ -26,7 +26,7 @@ from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
 from earl_m2t.config import Config, ConfigError, discover, glob_matches, load_config, shown
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity, SourceTextError
-from earl_m2t.read.bounded import ReadPolicy, current_policy, reading_with
+from earl_m2t.read.bounded import ReadPolicy, current_policy, read_regular_bytes, reading_with
 from earl_m2t.render.diagnostics import FORMATS, CheckReport
 
 
@@ -113,9 +113,11 @@ def settings(args: argparse.Namespace) -> Settings:
     for file in config.rules:
         display = shown(file)
         try:
-            text = file.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise ConfigError(config.file or display, f"rule file {display}: {exc.strerror or exc}") from None
+            text = read_regular_bytes(file).decode("utf-8")
+        except ModelReadError as exc:  # missing, a FIFO, a device, over the size limit
+            raise ConfigError(config.file or display, f"rule file {display}: {exc.message}") from None
+        except UnicodeDecodeError as exc:
+            raise ConfigError(config.file or display, f"rule file {display}: not UTF-8 text ({exc.reason})") from None
         user_rules.extend(parse_user_rules(text, display))
     rules = tuple(user_rules)
     if select_arg is not None:
