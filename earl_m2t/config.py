@@ -142,7 +142,8 @@ def load_config(file: Path) -> Config:
                                for glob, codes in per_file.items()),
         permitted_links=links,
         rules=rules,
-        allow_outside=tuple(root / rel for rel in _strings(file, prefix + "allow-outside", table.get("allow-outside", []))),
+        allow_outside=tuple(root / rel for rel in
+                            _strings(file, prefix + "allow-outside", table.get("allow-outside", []))),
         root=root,
     )
 

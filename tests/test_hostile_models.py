@@ -182,8 +182,8 @@ def test_nesting_beyond_200_levels_is_one_line_with_line_and_column(tmp_path: Pa
 @pytest.mark.parametrize(("old", "new", "mark", "what"), [
     ("part def ManipulatorAgent :> Agent", "part def Manipulator\x01Agent :> Agent", "\x01",
      "control character U+0001"),
-    ("newData('manipulatorCommand/ib'.msg.jointPosSetpoint)", "newData('manipulatorCommand/ib'.msg.joint\x0bPosSetpoint)",
-     "\x0b", "control character U+000B"),
+    ("newData('manipulatorCommand/ib'.msg.jointPosSetpoint)",
+     "newData('manipulatorCommand/ib'.msg.joint\x0bPosSetpoint)", "\x0b", "control character U+000B"),
     ("part def ManipulatorAgent :> Agent", "part def 'Manipulator\\bAgent' :> Agent", "\\b",
      "escape '\\b' gives a control character"),
 ])

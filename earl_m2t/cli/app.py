@@ -80,5 +80,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         return EXIT_OK
     except Exception as exc:  # a bug in earl-m2t: still one line, never a traceback
-        print(shortened_words(f"earl-m2t: internal error: {type(exc).__name__}: {exc}").splitlines()[0], file=sys.stderr)
+        line = shortened_words(f"earl-m2t: internal error: {type(exc).__name__}: {exc}").splitlines()[0]
+        print(line, file=sys.stderr)
         return EXIT_INTERNAL

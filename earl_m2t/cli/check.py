@@ -21,9 +21,9 @@ from earl_m2t.check.registry import catalogue, select_codes
 from earl_m2t.check.user_rules import UserRule, parse_user_rules
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
-from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.config import Config, ConfigError, discover, glob_matches, load_config, shown
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity, SourceTextError
 from earl_m2t.read.bounded import ReadPolicy, current_policy, read_regular_bytes, reading_with

@@ -15,8 +15,8 @@ from pathlib import Path
 
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
-from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.cli.gen_targets import gen_targets
+from earl_m2t.cli.read_options import add_read_options
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

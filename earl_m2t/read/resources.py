@@ -10,10 +10,11 @@ tool extensions and stereotype applications:
 * a relative path (``types.uml``, ``../lib/types.uml``, ``Used Project.mdzip``) is read from
   the directory of the file that holds the href, when it lies (links followed) under the git
   work tree holding the model, else the model's folder, or a folder of ``--allow-outside``, and
-  is a regular file within the size limit (:mod:`earl_m2t.read.bounded`); with the same hardened parser and the same
-  dialect detection as the model (a file whose tool is not recognised is read as the dialect
-  the user named, if any); then its own hrefs are looked at the same way. Each file is read
-  once per model, whichever path names it, so references back and forth between files end;
+  is a regular file within the size limit (:mod:`earl_m2t.read.bounded`); with the same
+  hardened parser and the same dialect detection as the model (a file whose tool is not
+  recognised is read as the dialect the user named, if any); then its own hrefs are looked at
+  the same way. Each file is read once per model, whichever path names it, so references back
+  and forth between files end;
 * ``platform:``, ``file:``, ``http(s):`` and unknown ``pathmap:`` URIs and absolute paths are
   never opened.
 

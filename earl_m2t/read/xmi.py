@@ -25,11 +25,11 @@ from lxml import etree
 
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
+from earl_m2t.read.bounded import open_regular
 from earl_m2t.read.dialects import DialectTable, detect_dialect, dialect_table, normalise_uri
 from earl_m2t.read.extension import ExtensionIndex, in_connector_order
 from earl_m2t.read.libraries import classify
 from earl_m2t.read.mdzip import is_archive, read_model_members
-from earl_m2t.read.bounded import open_regular
 from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_stream
 from earl_m2t.sysml2.files import is_sysml2
 

@@ -32,7 +32,8 @@ def refuse_unreadable(text: str) -> None:
     """Raise :class:`Refused` (with the offset) for a control character or nesting beyond ``MAX_NESTING``."""
     control = _CONTROL.search(text)
     if control is not None:
-        raise Refused(control.start(), f"control character U+{ord(control.group(0)):04X} is not allowed in SysML v2 text")
+        code = ord(control.group(0))
+        raise Refused(control.start(), f"control character U+{code:04X} is not allowed in SysML v2 text")
     depth = 0
     index = 0
     length = len(text)

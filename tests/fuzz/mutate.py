@@ -147,7 +147,8 @@ def mutate_tree(data: bytes, rng: random.Random) -> bytes:
         ids = [v for el in elements for k, v in el.attrib.items() if k.endswith("}id")]
         keys = [k for k in target.attrib if not k.endswith("}id")]
         if ids and keys:
-            target.set(rng.choice(keys), rng.choice(ids) if rng.random() < 0.7 else " ".join(rng.sample(ids, min(3, len(ids)))))
+            several = " ".join(rng.sample(ids, min(3, len(ids))))
+            target.set(rng.choice(keys), rng.choice(ids) if rng.random() < 0.7 else several)
     elif kind == 5:
         key = rng.choice(("name", "href", "body", "value", "type"))
         value = rng.choice(HOSTILE_HREFS) if key == "href" else hostile_names(rng)
@@ -167,7 +168,8 @@ _TEXT_TOKENS = (
     "{", "}", "(", ")", ";", ":", ":>", ":>>", "::", "=", "[", "]", "'", '"', "/*", "*/", "part def ",
     "state ", "transition ", "then ", "if ", "first ", "accept ", "do action ", "entry; ", "port ",
     "attribute ", "calc def ", "action def ", "package ", "import ", "private ", "in ", "out ",
-    "language \"EARL\" /* a/mi.x ∧ ¬b/pp */", "'x/pp'()", "metadata e : Exclusive about ", "@Priority { priority = 1; }",
+    "language \"EARL\" /* a/mi.x ∧ ¬b/pp */", "'x/pp'()", "metadata e : Exclusive about ",
+    "@Priority { priority = 1; }",
     "#Memory ", "AgentType::CE", " :> Agent ", " :> System ", " : InputBuffer ", "\u0000", "\u0007", "\\b", "\\f",
     "\u202e", "\ufeff", "\ud7ff", "0x", "1e999", "-", "∧", "∨", "¬", "…",
 )
@@ -225,7 +227,8 @@ def mutate_archive(data: bytes, rng: random.Random) -> bytes:
     except Exception:
         return mutate_bytes(data, rng)
     out = io.BytesIO()
-    chosen = rng.choice([i for i, (info, _) in enumerate(members) if "model" in info.filename] or [0]) if members else -1
+    models = [i for i, (info, _) in enumerate(members) if "model" in info.filename] or [0]
+    chosen = rng.choice(models) if members else -1
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
         for index, (info, content) in enumerate(members):
             if index == chosen:

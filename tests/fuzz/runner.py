@@ -7,10 +7,11 @@ Each worker runs its inputs one after the other in one process (``earl_m2t.cli.a
 captured), under an address-space limit; the parent gives every input a generous bound of the
 worker's CPU time (``--bound``, 60 s; a worker starved by a busy machine is not counted) and of
 wall time (``WALL_FACTOR`` times as long: an input blocked without using the CPU), and counts an
-input that exceeds either as a hang: the worker is killed and a new one goes on with the next input. An input counts as a failure when the command ends in an internal
-error (exit 3, or an exception escaping ``main``), in an exit code other than 0, 1 or 2, or in a
-hang; failing inputs are written to the regression folder (``tests/fuzz/regressions``), which
-``tests/test_fuzz.py`` replays.
+input that exceeds either as a hang: the worker is killed and a new one goes on with the next
+input. An input counts as a failure when the command ends in an internal error (exit 3, or an
+exception escaping ``main``), in an exit code other than 0, 1 or 2, or in a hang; failing inputs
+are written to the regression folder (``tests/fuzz/regressions``), which ``tests/test_fuzz.py``
+replays.
 
     python tests/fuzz/runner.py --inputs 100000 --seed 1 --jobs 2     # what `make fuzz` runs
 """
@@ -274,7 +275,8 @@ class Campaign:
                 if progress and len(results) >= reported + 5000:
                     reported = len(results) - len(results) % 5000
                     rate = len(results) / max(time.monotonic() - started, 1e-9)
-                    print(f"{len(results)} inputs, {rate:.1f}/s; so far:\n{summary(results)}", file=sys.stderr, flush=True)
+                    print(f"{len(results)} inputs, {rate:.1f}/s; so far:\n{summary(results)}", file=sys.stderr,
+                          flush=True)
         finally:
             for process, connection, _, _, _ in workers.values():
                 process.kill()
@@ -331,7 +333,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--first", type=int, default=0, help="the number of the first input")
     parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--bound", type=float, default=DEFAULT_BOUND, help="seconds an input may take before it is a hang")
+    parser.add_argument("--bound", type=float, default=DEFAULT_BOUND,
+                        help="seconds of CPU time an input may take before it is a hang")
     parser.add_argument("--regressions", type=Path, default=REGRESSIONS, help="where failing inputs are written")
     args = parser.parse_args(argv)
     pool = seeds()
