@@ -192,7 +192,11 @@ def _worker(connection: Connection, seed_number: int, pool: list[Seed], folder: 
         index = connection.recv()
         if index is None:
             return
-        case = make_case(seed_number, index, pool)
+        try:
+            case = make_case(seed_number, index, pool)
+        except Exception as exc:  # a defect of the mutator, not of earl-m2t: reported, not counted
+            connection.send((index, -2, f"the mutator failed: {type(exc).__name__}: {exc}"[:400], "mutator", "-"))
+            continue
         code, message = run_case(case, place)
         connection.send((index, code, message, case.seed.dialect, case.command[0]))
 
@@ -267,7 +271,7 @@ class Campaign:
                                                                f"or {self.bound * WALL_FACTOR:g} s: a hang"))
                         del workers[slot]
                 while saved < len(results):
-                    if regressions is not None and results[saved].code not in (0, 1, 2):
+                    if regressions is not None and results[saved].code in (3, -1):
                         found = self.save(results[saved], regressions)
                         print(f"input {results[saved].index} ({results[saved].command}): {results[saved].message} "
                               f"-> {found}", file=sys.stderr, flush=True)
@@ -315,6 +319,7 @@ def summary(results: list[Result]) -> str:
     for result in results:
         by_dialect.setdefault(result.dialect, Counter())[result.code] += 1
     names = {0: "exit 0", 1: "exit 1", 2: "exit 2", 3: "internal", -1: "hang"}
+    broken = [r for r in results if r.code == -2]  # the mutator's own defects, never expected
     lines = [f"{'dialect':<22}{'inputs':>8}" + "".join(f"{names[c]:>10}" for c in (0, 1, 2, 3, -1))]
     total: Counter[int] = Counter()
     for dialect in sorted(by_dialect):
@@ -322,6 +327,8 @@ def summary(results: list[Result]) -> str:
         total.update(counts)
         lines.append(f"{dialect:<22}{sum(counts.values()):>8}" + "".join(f"{counts[c]:>10}" for c in (0, 1, 2, 3, -1)))
     lines.append(f"{'total':<22}{sum(total.values()):>8}" + "".join(f"{total[c]:>10}" for c in (0, 1, 2, 3, -1)))
+    if broken:
+        lines.append(f"the mutator failed on {len(broken)} input(s), first {broken[0].index}: {broken[0].message}")
     commands = Counter(r.command for r in results)
     lines.append("commands: " + ", ".join(f"{name} {count}" for name, count in sorted(commands.items())))
     return "\n".join(lines)
