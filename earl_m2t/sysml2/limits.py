@@ -2,8 +2,8 @@
 
 Both are reported as ``file:line:col: error: ...`` at the offending character. Control
 characters (C0 other than tab, line feed and carriage return; DEL; C1; U+FFFE, U+FFFF) cannot be
-written into names, strings or XMI, and are invisible in review; nesting (``{``, ``(``, ``[``
-outside strings, quoted names and comments) deeper than ``MAX_NESTING`` levels is refused rather
+written into names, strings or XMI, and are invisible in review; nesting (``{``, ``(``, ``[``,
+counted over the whole text) deeper than ``MAX_NESTING`` levels is refused rather
 than parsed, so that every input ends in a model or a one-line error. One linear pass each.
 """
 
@@ -16,7 +16,8 @@ MAX_NESTING = 200
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ufffe\uffff]")
 # what the nesting count skips: strings, quoted names, comments (each up to its end, or the file's)
 _SKIPPED = re.compile(r"""'(?:[^'\\]|\\.)*'?|"(?:[^"\\]|\\.)*"?|/\*.*?(?:\*/|\Z)|//[^\n]*""", re.DOTALL)
-_OPEN, _CLOSE = "{([", "})]"
+_OPEN = "{(["
+_BRACKET = re.compile(r"[{}()\[\]]")
 _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _CONTROL_ESCAPES = "bf"
 
@@ -34,10 +35,9 @@ def refuse_unreadable(text: str) -> None:
     if control is not None:
         code = ord(control.group(0))
         raise Refused(control.start(), f"control character U+{code:04X} is not allowed in SysML v2 text")
-    depth = 0
     index = 0
     length = len(text)
-    while index < length:
+    while index < length:  # strings and quoted names: no escape that makes a control character
         char = text[index]
         if char in "'\"/":
             skipped = _SKIPPED.match(text, index)
@@ -46,13 +46,18 @@ def refuse_unreadable(text: str) -> None:
                     _refuse_control_escape(skipped.group(0), index)
                 index = skipped.end()
                 continue
-        elif char in _OPEN:
+        index += 1
+    # Nesting is counted over the whole text, strings and comments included: where a string or
+    # comment ends is the parser's to decide (an unclosed quote), and real models never come near.
+    depth = 0
+    for bracket in _BRACKET.finditer(text):
+        if bracket.group(0) in _OPEN:
             depth += 1
             if depth > MAX_NESTING:
-                raise Refused(index, f"nested more than {MAX_NESTING} levels deep ('{char}'): not read")
-        elif char in _CLOSE:
+                raise Refused(bracket.start(), f"nested more than {MAX_NESTING} levels deep "
+                                               f"('{bracket.group(0)}'): not read")
+        else:
             depth = max(depth - 1, 0)
-        index += 1
 
 
 def _refuse_control_escape(quoted: str, offset: int) -> None:
