@@ -5,7 +5,7 @@ PY := $(VENV)/bin/python
 SAMPLE := samples/pick_and_place/pick_and_place.uml
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test setup wheel-check bench clean
+.PHONY: demo test setup wheel-check bench fuzz clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -30,6 +30,13 @@ wheel-check: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) bench/run.py
+
+# The long fuzz campaign (tests/fuzz/runner.py): failing inputs go to tests/fuzz/regressions/
+FUZZ_INPUTS ?= 100000
+FUZZ_SEED ?= 1
+FUZZ_JOBS ?= 2
+fuzz: $(STAMP)
+	$(PY) tests/fuzz/runner.py --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED) --jobs $(FUZZ_JOBS)
 
 clean:
 	rm -rf $(VENV) dist build bench/out

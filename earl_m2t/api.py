@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -12,6 +13,7 @@ from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift import lift
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.read.xmi import load_raw_model
+from earl_m2t.shorten import shortened_words
 from earl_m2t.sysml2.files import is_sysml2
 
 if TYPE_CHECKING:
@@ -69,4 +71,13 @@ def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
         if options.enabled(d.code)
     ]
     found = deduplicate(reader_findings + check_model(loaded.model, options))
-    return sorted(apply_suppressions(found, loaded.suppressions, loaded.model, options), key=Diagnostic.sort_key)
+    kept = apply_suppressions(found, loaded.suppressions, loaded.model, options)
+    return sorted((_readable(d) for d in kept), key=Diagnostic.sort_key)
+
+
+def _readable(diagnostic: Diagnostic) -> Diagnostic:
+    """Model values of any length (names, hrefs) shortened in the message and element path."""
+    message, element = shortened_words(diagnostic.message), shortened_words(diagnostic.element)
+    if message == diagnostic.message and element == diagnostic.element:
+        return diagnostic
+    return dataclasses.replace(diagnostic, message=message, element=element)

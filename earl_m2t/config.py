@@ -15,9 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from earl_m2t.check.tables import LinkTable, LinkTableError, builtin_permitted_links, parse_link_table
-from earl_m2t.diagnostics import Severity
+from earl_m2t.diagnostics import ModelReadError, Severity
+from earl_m2t.read.bounded import read_regular_bytes
 
-KEYS = ("select", "ignore", "severity", "per-file-ignores", "permitted-links", "rules")
+KEYS = ("select", "ignore", "severity", "per-file-ignores", "permitted-links", "rules", "allow-outside")
 
 
 class ConfigError(Exception):
@@ -44,6 +45,7 @@ class Config:
     per_file_ignores: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (glob, codes)
     permitted_links: LinkTable | None = None
     rules: tuple[Path, ...] = ()
+    allow_outside: tuple[Path, ...] = ()  # folders outside a model's repository its hrefs may name
     root: Path = field(default_factory=Path.cwd)  # the folder globs and paths are relative to
 
     def relative(self, model: Path) -> str | None:
@@ -89,7 +91,9 @@ def discover(start: Path) -> Path | None:
 
 def _read(file: Path) -> dict[str, Any]:
     try:
-        return tomllib.loads(file.read_text(encoding="utf-8"))
+        return tomllib.loads(read_regular_bytes(file).decode("utf-8"))
+    except ModelReadError as exc:  # a FIFO, a device, a file over the size limit
+        raise ConfigError(file, f"cannot be read: {exc.message}") from None
     except OSError as exc:
         raise ConfigError(file, f"cannot be read: {exc.strerror or exc}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
@@ -138,6 +142,8 @@ def load_config(file: Path) -> Config:
                                for glob, codes in per_file.items()),
         permitted_links=links,
         rules=rules,
+        allow_outside=tuple(root / rel for rel in
+                            _strings(file, prefix + "allow-outside", table.get("allow-outside", []))),
         root=root,
     )
 

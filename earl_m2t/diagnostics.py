@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 from earl_m2t.model.location import Location
+from earl_m2t.shorten import shortened_words
 
 
 class Severity(str, Enum):
@@ -66,4 +67,4 @@ class ModelReadError(Exception):
     def one_line(self) -> str:
         where = f"{self.file}:{self.line}" if self.line else self.file
         what = f" [{self.element}]" if self.element else ""
-        return f"{where}: error: {self.message}{what}"
+        return shortened_words(f"{where}: error: {self.message}{what}")

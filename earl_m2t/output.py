@@ -11,7 +11,11 @@ Every generator (``earl-m2t profile`` today, code generators later) prepares its
   kept, so build tools do not rebuild);
 - any other file is written to a temporary file in its own folder and moved over the old
   one with :func:`os.replace`, so a reader never sees half a file and an interrupted run
-  leaves the previous version in place.
+  leaves the previous version in place; the temporary files an interrupted run left beside
+  the files being written are removed and reported;
+- no file or folder name may exceed 255 bytes (checked with the other paths, so such a
+  generation writes nothing); a failure part-way (a full disk) raises :class:`OutputError`
+  with what was written before it.
 
 Files given as ``create_only`` (user files of the generation gap) are written only when
 no file exists at their path: the new file is linked into place, so an existing file is
@@ -30,13 +34,25 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
+from earl_m2t.shorten import shortened
+
 __all__ = ["OutputError", "WriteReport", "check_relative_path", "write_files"]
 
 _DRIVE = re.compile(r"^[A-Za-z]:")  # a Windows drive ("C:..."): never relative
+NAME_MAX = 255  # bytes of one file or folder name: ext4, APFS, NTFS (UTF-16 units) and the rest
+# what _write_atomically names its temporary files: "." + the file's name + "." + 8 random characters + ".tmp"
+_TEMPORARY = re.compile(r"\.(?P<name>.+)\.[a-z0-9_]{8}\.tmp")
 
 
 class OutputError(Exception):
-    """A generated file cannot be written (bad path, unwritable folder...)."""
+    """A generated file cannot be written (bad path, unwritable folder...).
+
+    ``partial`` is what was written before a failure part-way (a full disk, a folder made
+    read-only meanwhile); None when nothing was written."""
+
+    def __init__(self, message: str, partial: "WriteReport | None" = None) -> None:
+        super().__init__(message)
+        self.partial = partial
 
 
 @dataclass(frozen=True)
@@ -48,14 +64,17 @@ class WriteReport:
     unchanged: tuple[str, ...]
     created: tuple[str, ...] = ()  # create-only files that were missing
     kept: tuple[str, ...] = ()  # create-only files that existed, left as they are
+    removed: tuple[str, ...] = ()  # temporary files an interrupted run left, removed
 
     def lines(self) -> list[str]:
-        """One line per file, in path order: ``wrote``, ``unchanged``, ``created`` or ``kept DIR/x``."""
+        """One line per file, in path order: ``wrote``, ``unchanged``, ``created`` or ``kept DIR/x``,
+        then ``removed DIR/.x.tmp`` for each stale temporary file."""
         status = {path: "wrote" for path in self.written}
         status.update({path: "unchanged" for path in self.unchanged})
         status.update({path: "created" for path in self.created})
         status.update({path: "kept" for path in self.kept})
-        return [f"{status[path]} {self.out_dir / path}" for path in sorted(status)]
+        return [f"{status[path]} {self.out_dir / path}" for path in sorted(status)] + [
+            f"removed {self.out_dir / path} (a temporary file left by an interrupted run)" for path in self.removed]
 
 
 def check_relative_path(name: str) -> PurePosixPath:
@@ -70,6 +89,11 @@ def check_relative_path(name: str) -> PurePosixPath:
         raise OutputError(f"output path {name!r} leaves the output folder")
     if not path.parts or path == PurePosixPath("."):
         raise OutputError(f"output path {name!r} names no file")
+    for part in path.parts:
+        size = len(part.encode("utf-8", "surrogateescape"))
+        if size > NAME_MAX:
+            raise OutputError(f"output path {shortened(name)!r} has a file or folder name of {size} bytes, more than "
+                              f"the {NAME_MAX} file systems allow (rule D005 reports such names); nothing written")
     return path
 
 
@@ -102,21 +126,55 @@ def write_files(out_dir: Path | str, files: Mapping[str, bytes],
             raise OutputError(f"output path {str(relative)!r} leads outside {root_given} (through a symbolic link)")
         targets.append((relative, target, content))
 
+    removed = _remove_stale_temporaries(root, [relative for relative, _, _ in targets])
     written: list[str] = []
     unchanged: list[str] = []
     created: list[str] = []
     kept: list[str] = []
     for relative, target, content in targets:
-        if relative in once:
-            made = _create_once(target, content, root_given / str(relative))
-            (created if made else kept).append(str(relative))
-            continue
-        if _same_content(target, content):
-            unchanged.append(str(relative))
-            continue
-        _write_atomically(target, content, root_given / str(relative))
+        try:
+            if relative in once:
+                made = _create_once(target, content, root_given / str(relative))
+                (created if made else kept).append(str(relative))
+                continue
+            if _same_content(target, content):
+                unchanged.append(str(relative))
+                continue
+            _write_atomically(target, content, root_given / str(relative))
+        except OutputError as error:
+            done = WriteReport(root_given, tuple(written), tuple(unchanged), tuple(created), tuple(kept), removed)
+            processed = len(written) + len(unchanged) + len(created) + len(kept)
+            raise OutputError(f"{error}; {len(written) + len(created)} file(s) were written before it (listed "
+                              f"above), {len(targets) - processed} of {len(targets)} were not", done) from None
         written.append(str(relative))
-    return WriteReport(root_given, tuple(written), tuple(unchanged), tuple(created), tuple(kept))
+    return WriteReport(root_given, tuple(written), tuple(unchanged), tuple(created), tuple(kept), removed)
+
+
+def _remove_stale_temporaries(root: Path, relatives: list[PurePosixPath]) -> tuple[str, ...]:
+    """Remove the temporary files an interrupted run left beside the files about to be written
+    (``.NAME.XXXXXXXX.tmp`` for a planned ``NAME`` in the same folder, regular files only)."""
+    planned: dict[PurePosixPath, set[str]] = {}
+    for relative in relatives:
+        planned.setdefault(relative.parent, set()).add(relative.name)
+    removed: list[str] = []
+    for folder, names in sorted(planned.items()):
+        try:
+            entries = sorted(os.listdir(root.joinpath(*folder.parts)))
+        except OSError:
+            continue  # not there yet: nothing left in it
+        for entry in entries:
+            match = _TEMPORARY.fullmatch(entry)
+            if match is None or match.group("name") not in names:
+                continue
+            path = root.joinpath(*folder.parts, entry)
+            try:
+                if stat.S_ISREG(path.lstat().st_mode):
+                    path.unlink()
+                    removed.append(str(folder / entry))
+            except OSError as error:
+                raise OutputError(f"cannot remove {path}, a temporary file left by an interrupted run: "
+                                  f"{_reason(error)}") from None
+    return tuple(removed)
 
 
 # ---------------------------------------------------------------- internals

@@ -21,8 +21,11 @@ from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
-DIRECTIVE = re.compile(r"earl-m2t:\s*ignore\[([^\]\n]*)\]([^\n]*)")
-_TAG = re.compile(r"<[^>]*>")
+# Linear in the comment's length however it is written: the code list is bounded (an unclosed
+# ``ignore[`` repeated along one line would otherwise be scanned to the line's end each time),
+# and a tag cannot hold ``<`` (an unclosed ``<`` would otherwise be scanned to the text's end).
+DIRECTIVE = re.compile(r"earl-m2t:\s*ignore\[([^\]\n]{0,200})\]([^\n]*)")
+_TAG = re.compile(r"<[^<>]*>")
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,10 @@ from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
 from earl_m2t.cli import trace as trace_command
+from earl_m2t.cli.read_options import read_policy
+from earl_m2t.deep_stack import call_with_deep_stack
+from earl_m2t.read.bounded import reading_with
+from earl_m2t.shorten import shortened_words
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -75,11 +79,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
     try:
-        return int(args.run(args))
+        with reading_with(read_policy(args)):
+            return call_with_deep_stack(lambda: int(args.run(args)))
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
         return EXIT_OK
     except Exception as exc:  # a bug in earl-m2t: still one line, never a traceback
-        print(f"earl-m2t: internal error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        line = shortened_words(f"earl-m2t: internal error: {type(exc).__name__}: {exc}").splitlines()[0]
+        print(line, file=sys.stderr)
         return EXIT_INTERNAL

@@ -24,8 +24,10 @@ from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.discover import model_files
 from earl_m2t.cli.progress import Progress
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.config import Config, ConfigError, discover, glob_matches, load_config, shown
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity, SourceTextError
+from earl_m2t.read.bounded import ReadPolicy, current_policy, read_regular_bytes, reading_with
 from earl_m2t.render.diagnostics import FORMATS, CheckReport
 
 
@@ -43,6 +45,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N", help="check N files at a time")
     add_dialect_option(parser)
     add_profile_files_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -77,6 +80,11 @@ class Settings:
     config: Config = field(default_factory=Config)
     per_file: tuple[tuple[str, frozenset[str]], ...] = ()
 
+    def read_policy(self) -> ReadPolicy:
+        """The command line's read policy with the configuration's ``allow-outside`` folders added."""
+        given = current_policy()
+        return dataclasses.replace(given, allow_outside=given.allow_outside + self.config.allow_outside)
+
     def options_for(self, model: str) -> CheckOptions:
         relative = self.config.relative(Path(model))
         if relative is None or not self.per_file:
@@ -107,9 +115,11 @@ def settings(args: argparse.Namespace) -> Settings:
     for file in config.rules:
         display = shown(file)
         try:
-            text = file.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise ConfigError(config.file or display, f"rule file {display}: {exc.strerror or exc}") from None
+            text = read_regular_bytes(file).decode("utf-8")
+        except ModelReadError as exc:  # missing, a FIFO, a device, over the size limit
+            raise ConfigError(config.file or display, f"rule file {display}: {exc.message}") from None
+        except UnicodeDecodeError as exc:
+            raise ConfigError(config.file or display, f"rule file {display}: not UTF-8 text ({exc.reason})") from None
         user_rules.extend(parse_user_rules(text, display))
     rules = tuple(user_rules)
     if select_arg is not None:
@@ -139,15 +149,18 @@ class Outcome:
     unreadable: dict[str, object] | None = None
 
 
-def options_for_model(args: argparse.Namespace, model: str) -> CheckOptions:
-    """The options one model is checked with by ``gen`` and ``report``. Raises ConfigError,
-    UsageError or SourceTextError (one line each)."""
-    return settings(args).options_for(model)
+def options_for_model(args: argparse.Namespace, model: str) -> tuple[CheckOptions, ReadPolicy]:
+    """The options one model is checked with by ``gen`` and ``report``, and the read policy it is
+    read with. Raises ConfigError, UsageError or SourceTextError (one line each)."""
+    setup = settings(args)
+    return setup.options_for(model), setup.read_policy()
 
 
-def check_file(file: str, options: CheckOptions, dialect: str | None, profiles: tuple[str, ...] = ()) -> Outcome:
+def check_file(file: str, options: CheckOptions, dialect: str | None, policy: ReadPolicy,
+               profiles: tuple[str, ...] = ()) -> Outcome:
     try:
-        return Outcome(file, check_loaded(load(file, dialect, profiles), options))
+        with reading_with(policy):
+            return Outcome(file, check_loaded(load(file, dialect, profiles), options))
     except ModelReadError as exc:
         return Outcome(file, [], exc.one_line(), {"file": exc.file, "line": exc.line, "message": exc.message})
 
@@ -160,10 +173,11 @@ def _run_all(files: list[str], setup: Settings, dialect: str | None, jobs: int,
         if jobs <= 1 or len(files) <= 1:
             for index, file in enumerate(files, 1):
                 progress.show(index, file)
-                results[file] = check_file(file, setup.options_for(file), dialect, profiles)
+                results[file] = check_file(file, setup.options_for(file), dialect, setup.read_policy(), profiles)
         else:
             with ProcessPoolExecutor(max_workers=min(jobs, len(files))) as pool:
-                futures = {pool.submit(check_file, f, setup.options_for(f), dialect, profiles): f for f in files}
+                futures = {pool.submit(check_file, f, setup.options_for(f), dialect, setup.read_policy(),
+                                       profiles): f for f in files}
                 for done, future in enumerate(as_completed(futures), 1):
                     progress.show(done, futures[future])
                     results[futures[future]] = future.result()

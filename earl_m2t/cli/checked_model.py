@@ -11,6 +11,7 @@ from earl_m2t.api import Loaded, check_loaded, load
 from earl_m2t.cli.check import UsageError, options_for_model
 from earl_m2t.config import ConfigError
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, SourceTextError
+from earl_m2t.read.bounded import reading_with
 
 
 @dataclass(frozen=True)
@@ -23,12 +24,13 @@ def read_and_check(args: argparse.Namespace, command: str) -> CheckedModel | int
     """``args.model`` read and checked, or the exit code (2) after one line on stderr for an
     unusable configuration or an unreadable model."""
     try:
-        options = options_for_model(args, args.model)
+        options, policy = options_for_model(args, args.model)
     except (ConfigError, UsageError, SourceTextError) as error:
         print(str(error).splitlines()[0], file=sys.stderr)
         return 2
     try:
-        loaded = load(args.model, getattr(args, "dialect", None), getattr(args, "profiles", ()))
+        with reading_with(policy):
+            loaded = load(args.model, getattr(args, "dialect", None), getattr(args, "profiles", ()))
     except ModelReadError as error:
         print(f"earl-m2t: {command}: {error}", file=sys.stderr)
         return 2

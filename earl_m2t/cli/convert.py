@@ -13,6 +13,7 @@ from pathlib import Path
 
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.profile_files_option import add_profile_files_option
+from earl_m2t.cli.read_options import add_read_options
 
 FORMATS = ("sysml",)
 
@@ -30,6 +31,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                         help="replace FILE when it exists with other content (it may hold edits)")
     add_dialect_option(parser)
     add_profile_files_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

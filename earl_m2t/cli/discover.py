@@ -10,6 +10,7 @@ skipped.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from earl_m2t.sysml2.files import SUFFIX as SYSML2_SUFFIX
@@ -33,15 +34,31 @@ def is_model_file(path: Path) -> bool:
 
 
 def _walk(folder: Path) -> list[Path]:
+    """The model files under ``folder``; each folder is searched once, however links lead to it
+    (a link to a folder above ends instead of looping), and without recursion."""
     found: list[Path] = []
-    for entry in sorted(folder.iterdir(), key=lambda p: p.name):
-        if entry.name.startswith("."):
+    seen: set[str] = set()
+    pending = [folder]
+    while pending:
+        current = pending.pop()
+        real = os.path.realpath(current)
+        if real in seen:
             continue
-        if entry.is_dir():
-            found.extend(_walk(entry))
-        elif entry.is_file() and is_model_file(entry):
-            found.append(entry)
-    return found
+        seen.add(real)
+        try:
+            entries = sorted(current.iterdir(), key=lambda p: p.name)
+        except OSError:
+            continue  # unreadable or vanished: nothing to check in it
+        folders = []
+        for entry in entries:
+            if entry.name.startswith("."):
+                continue
+            if entry.is_dir():
+                folders.append(entry)
+            elif entry.is_file() and is_model_file(entry):
+                found.append(entry)
+        pending.extend(reversed(folders))
+    return sorted(found, key=lambda p: p.parts)
 
 
 def model_files(arguments: list[str]) -> tuple[list[str], list[str]]:

@@ -17,6 +17,7 @@ from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.gen_targets import gen_targets
+from earl_m2t.cli.read_options import add_read_options
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -35,6 +36,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_config_options(parser)
     add_dialect_option(parser)
     add_profile_files_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -44,6 +46,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.gen import GenError, generate
     from earl_m2t.output import OutputError
     from earl_m2t.render.diagnostics import text_line
+    from earl_m2t.shorten import shortened_words
 
     checked = read_and_check(args, "gen")
     if isinstance(checked, int):
@@ -59,10 +62,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         report = generate(loaded.model, args.output, args.target, args.templates, strict=not args.force)
     except GenError as error:
-        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        print(shortened_words(f"earl-m2t: gen: {error}"), file=sys.stderr)
         return 1
     except OutputError as error:
-        print(f"earl-m2t: gen: {error}", file=sys.stderr)
+        for line in error.partial.lines() if error.partial is not None else ():
+            print(line)  # what was written before the failure
+        print(shortened_words(f"earl-m2t: gen: {error}"), file=sys.stderr)
         return 2
     for line in report.lines():
         print(line)

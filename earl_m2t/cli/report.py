@@ -16,6 +16,7 @@ from pathlib import Path
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.profile_files_option import add_profile_files_option
+from earl_m2t.cli.read_options import add_read_options
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -30,6 +31,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_config_options(parser)
     add_dialect_option(parser)
     add_profile_files_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -39,6 +41,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.gen.errors import GenError
     from earl_m2t.gen.report import diagram_folder, render_report
     from earl_m2t.output import OutputError, write_files
+    from earl_m2t.shorten import shortened_words
 
     checked = read_and_check(args, "report")
     if isinstance(checked, int):
@@ -48,13 +51,18 @@ def run(args: argparse.Namespace) -> int:
         files = render_report(loaded.model, findings, png=args.png, templates=args.templates)
         written = write_files(args.output, files)
     except GenError as error:
-        print(f"earl-m2t: report: {error}", file=sys.stderr)
+        print(shortened_words(f"earl-m2t: report: {error}"), file=sys.stderr)
         return 1
     except OutputError as error:
-        print(f"earl-m2t: report: {error}", file=sys.stderr)
+        for line in error.partial.lines() if error.partial is not None else ():
+            print(line)  # what was written before the failure
+        print(shortened_words(f"earl-m2t: report: {error}"), file=sys.stderr)
         return 2
     index = Path(args.output) / "index.html"
     print(f"report {index}: {len(written.written)} file(s) written, {len(written.unchanged)} unchanged")
+    for line in written.lines():
+        if line.startswith("removed "):
+            print(line)
     for stale in find_stale_diagrams(Path(args.output), set(files), diagram_folder()):
         print(f"orphaned {Path(args.output) / stale} (kept; nothing in the model generates it any more)")
     return 0

@@ -9,6 +9,7 @@ import sys
 from earl_m2t.api import load
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.profile_files_option import add_profile_files_option
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.export import model_to_dict
 from earl_m2t.render.show_text import render_model
@@ -20,6 +21,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--format", choices=("text", "json"), default="text")
     add_dialect_option(parser)
     add_profile_files_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

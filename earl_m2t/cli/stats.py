@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.read_options import add_read_options
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.lift import lift
 from earl_m2t.read.xmi import load_raw_model
@@ -37,6 +38,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("model", metavar="MODEL")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     add_dialect_option(parser)
+    add_read_options(parser)
     parser.set_defaults(run=run)
 
 

@@ -28,9 +28,7 @@ def code_span(text: object) -> str:
     value = " ".join(str(text).split())
     if not value:
         return ""
-    fence = "`"
-    while fence in value:
-        fence += "`"
+    fence = "`" * (max((len(run) for run in re.findall("`+", value)), default=0) + 1)
     pad = " " if value.startswith("`") or value.endswith("`") else ""
     return f"{fence}{pad}{value}{pad}{fence}".replace("|", "\\|")
 

@@ -54,14 +54,18 @@ class Scope:
 
     def __init__(self, reserved: tuple[str, ...] = ()) -> None:
         self._taken: set[str] = {r.lower() for r in reserved}
+        self._last_number: dict[str, int] = {}
 
     def take(self, name: str, *derived: str) -> str:
         """A free identifier for ``name``; ``derived`` suffixes (``_base``) are reserved with it."""
         base = cpp_identifier(name)
-        candidate, n = base, 1
+        candidate, n = base, self._last_number.get(base.lower(), 1)
+        if n > 1:
+            candidate = f"{base}_{n}"
         while any((candidate + suffix).lower() in self._taken for suffix in ("", *derived)):
             n += 1
             candidate = f"{base}_{n}"
+        self._last_number[base.lower()] = n  # the next name with this base starts here: linear, not quadratic
         for suffix in ("", *derived):
             self._taken.add((candidate + suffix).lower())
         return candidate

@@ -45,6 +45,25 @@ def identifier_problem(name: str) -> str:
     return ""
 
 
+def length_problem(name: str) -> str:
+    """Why a name is too long for the generated files (rule D005), or "" when it is not."""
+    limit = int(_table()["max_length"])
+    length = len(ascii_fold(identifier(name.strip())))
+    if length <= limit:
+        return ""
+    return f"its generated identifier has {length} characters, more than the {limit} every target can use in file names"
+
+
+def windows_reserved(name: str) -> str:
+    """The Windows device name (``COM1``, ``NUL`` …) a name's files would be called, or ""."""
+    reserved = {word.upper() for word in _table()["windows_reserved"]}
+    for candidate in (sanitised(name), re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(identifier_stem(name.strip()))),
+                      field_name(name), message_name(name)):
+        if candidate.upper() in reserved:
+            return candidate
+    return ""
+
+
 def sanitised(name: str) -> str:
     """The identifier a generator derives: non-identifier characters become '_'."""
     return re.sub(r"[^A-Za-z0-9_]", "_", identifier(name))
@@ -73,9 +92,15 @@ def ascii_fold(text: str) -> str:
 def words(name: str) -> list[str]:
     """The words of a name: ``jointPosSetpoint`` → joint Pos Setpoint, ``XMLParser`` → XML Parser."""
     text = ascii_fold(identifier(name.strip()))
-    text = re.sub(r"([a-z0-9])([A-Z])", r"\1 \2", text)
-    text = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", text)
+    text = _LOWER_UPPER.sub(r"\1 \2", text)
+    text = _ACRONYM_END.sub(r"\1 ", text)
     return [w for w in re.split(r"[^A-Za-z0-9]+", text) if w]
+
+
+# Linear in the length of the name: every pattern looks at a fixed number of characters from
+# each position (``([A-Z]+)([A-Z][a-z])`` backtracked over long capital runs: quadratic).
+_LOWER_UPPER = re.compile(r"([a-z0-9])([A-Z])")
+_ACRONYM_END = re.compile(r"([A-Z])(?=[A-Z][a-z])")  # XMLParser → XML Parser
 
 
 def message_name(name: str) -> str:

@@ -14,6 +14,7 @@ import zipfile
 import zlib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.read.dialects import dialect_table
@@ -37,19 +38,20 @@ def member_file(archive: str, member: str) -> str:
     return f"{archive}!{member}"
 
 
-def is_archive(path: Path) -> bool:
+def is_archive(source: Path | BinaryIO) -> bool:
+    """Whether a file (a path, or a seekable stream opened by :mod:`earl_m2t.read.bounded`) is a ZIP archive."""
     try:
-        return zipfile.is_zipfile(path)
+        return zipfile.is_zipfile(source)
     except OSError:
         return False
 
 
-def read_model_members(path: Path) -> list[Member]:
+def read_model_members(source: Path | BinaryIO, shown: str | None = None) -> list[Member]:
     """The model members of an ``.mdzip``, first the main model; :class:`ModelReadError` otherwise."""
-    file = str(path)
+    file = shown if shown is not None else str(source)
     names = dialect_table().mdzip_members
     try:
-        with zipfile.ZipFile(path) as archive:
+        with zipfile.ZipFile(source) as archive:
             present = {info.filename: info for info in archive.infolist()}
             if not names or names[0] not in present:
                 raise ModelReadError(

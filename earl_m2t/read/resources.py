@@ -8,10 +8,13 @@ tool extensions and stereotype applications:
 * an href into a known library (UML primitive types, SysML value types, profiles, the
   metamodel …) is left to name-based resolution; the library is never opened;
 * a relative path (``types.uml``, ``../lib/types.uml``, ``Used Project.mdzip``) is read from
-  the directory of the file that holds the href, with the same hardened parser and the same
-  dialect detection as the model (a file whose tool is not recognised is read as the dialect
-  the user named, if any); then its own hrefs are looked at the same way. Each file is read
-  once per model, whichever path names it, so references back and forth between files end;
+  the directory of the file that holds the href, when it lies (links followed) under the git
+  work tree holding the model, else the model's folder, or a folder of ``--allow-outside``, and
+  is a regular file within the size limit (:mod:`earl_m2t.read.bounded`); with the same
+  hardened parser and the same dialect detection as the model (a file whose tool is not
+  recognised is read as the dialect the user named, if any); then its own hrefs are looked at
+  the same way. Each file is read once per model, whichever path names it, so references back
+  and forth between files end;
 * ``platform:``, ``file:``, ``http(s):`` and unknown ``pathmap:`` URIs and absolute paths are
   never opened.
 
@@ -34,6 +37,7 @@ from lxml import etree
 
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
+from earl_m2t.read.bounded import is_under, roots_for, work_tree
 from earl_m2t.read.libraries import classify
 from earl_m2t.read.xmi import Element, RawModel, read_raw_model
 from earl_m2t.resources import metamodel_path
@@ -66,6 +70,7 @@ class ResourceSet:
 
     main: RawModel
     dialect: str | None = None  # the dialect the user named, for files whose tool is unknown
+    roots: tuple[Path, ...] = ()  # the folders referenced files must be under (read.bounded.roots_for)
     # the model of each document root; the folder each model's hrefs are relative to (as shown)
     _by_root: dict[Element, RawModel] = field(default_factory=dict, init=False)
     _dirs: dict[int, str] = field(default_factory=dict, init=False)
@@ -121,13 +126,19 @@ class ResourceSet:
         real = _real(Path(shown))
         self._targets[(id(model), resource)] = real
         if real not in self._files:
-            self._files[real] = self._read(Path(shown), shown, queue)
+            outside = not is_under(Path(real), self.roots)
+            self._files[real] = self._outside() if outside else self._read(Path(shown), shown, queue)
         target = self._files[real]
         if isinstance(target, str):
             self._problem(("resource", real), href, model, el, f"cannot read {shown}: {target}")
         elif fragment and fragment not in target.by_id:  # no fragment: the file itself
             self._problem(("href", f"{real}#{fragment}"), href, model, el,
                           f"{shown} has no element with xmi:id '{fragment}'")
+
+    def _outside(self) -> str:
+        where = "repository" if work_tree(self.roots[0]) == self.roots[0] else "folder"
+        return (f"outside the model's {where} ({self.roots[0]}): not read "
+                "(--allow-outside DIR or the configuration's allow-outside reads it)")
 
     def _read(self, path: Path, shown: str, queue: deque[RawModel]) -> RawModel | str:
         """A referenced file as a model (queued for its own references), or why it cannot be read."""
@@ -172,7 +183,7 @@ class ResourceSet:
 
 def follow_references(raw: RawModel, path: Path, dialect: str | None = None) -> None:
     """Read the files ``raw`` (read from ``path``) references; findings go to ``raw.diagnostics``."""
-    resources = ResourceSet(raw, dialect)
+    resources = ResourceSet(raw, dialect, roots_for(path))
     resources.add(raw, path, str(path))
     raw.diagnostics.extend(resources.follow())
     if resources.model_of(raw.root) is None:

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import BinaryIO
 
 from lxml import etree
 
 from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.read.bounded import open_regular
 
 
 def _parser() -> etree.XMLParser:
@@ -54,12 +56,20 @@ def refuse_doctype_in_prolog(head: bytes, file: str) -> None:
 
 
 def parse_xml_file(path: Path) -> etree._ElementTree:
-    """Parse an XML file safely (the bytes go to lxml, so the declared encoding is honoured)."""
-    file = str(path)
+    """Parse an XML file safely (the bytes go to lxml, so the declared encoding is honoured).
+
+    Only a regular file within the size limit is read (:mod:`earl_m2t.read.bounded`)."""
+    with open_regular(path) as stream:
+        return parse_xml_stream(stream, str(path))
+
+
+def parse_xml_stream(stream: BinaryIO, file: str) -> etree._ElementTree:
+    """Parse an open, seekable XML file safely, from its start; ``file`` names it in errors."""
     try:
-        with open(path, "rb") as stream:
-            refuse_doctype_in_prolog(stream.read(_PROLOG_BYTES), file)
-        tree = etree.parse(file, _parser())
+        stream.seek(0)
+        refuse_doctype_in_prolog(stream.read(_PROLOG_BYTES), file)
+        stream.seek(0)
+        tree = etree.parse(stream, _parser())
     except OSError as exc:
         raise ModelReadError(file, f"cannot read file: {exc.strerror or exc}") from None
     except etree.XMLSyntaxError as exc:

@@ -25,11 +25,12 @@ from lxml import etree
 
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
+from earl_m2t.read.bounded import open_regular
 from earl_m2t.read.dialects import DialectTable, detect_dialect, dialect_table, normalise_uri
 from earl_m2t.read.extension import ExtensionIndex, in_connector_order
 from earl_m2t.read.libraries import classify
 from earl_m2t.read.mdzip import is_archive, read_model_members
-from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_file
+from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_stream
 from earl_m2t.sysml2.files import is_sysml2
 
 Element: TypeAlias = etree._Element
@@ -386,17 +387,14 @@ def load_raw_model(path: Path, dialect: str | None = None) -> RawModel:
 def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:
     """Read one XMI file or ``.mdzip`` project, leaving its references into other files unresolved."""
     file = str(path)
-    if path.is_dir():
-        raise ModelReadError(file, "is a directory, not a model file")
-    if not path.exists():
-        raise ModelReadError(file, "no such file")
     if is_sysml2(path):
         raise ModelReadError(file, "is SysML v2 text, not XMI")
-    if is_archive(path):
-        members = read_model_members(path)
-        documents = [(parse_xml_bytes(m.data, m.file).getroot(), m.file) for m in members]
-        return index_documents(documents, dialect)
-    tree = parse_xml_file(path)
+    with open_regular(path) as stream:  # a regular file within the size limit, or an error
+        if is_archive(stream):
+            members = read_model_members(stream, file)
+            documents = [(parse_xml_bytes(m.data, m.file).getroot(), m.file) for m in members]
+            return index_documents(documents, dialect)
+        tree = parse_xml_stream(stream, file)
     return index_tree(tree.getroot(), file, dialect)
 
 

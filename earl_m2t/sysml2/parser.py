@@ -18,8 +18,10 @@ from arpeggio import StrMatch
 from textx import get_location, metamodel_from_file, metamodel_from_str
 from textx.exceptions import TextXError, TextXSyntaxError
 
-from earl_m2t.diagnostics import SourceTextError
+from earl_m2t.diagnostics import ModelReadError, SourceTextError
+from earl_m2t.read.bounded import read_regular_bytes
 from earl_m2t.resources import metamodel_path
+from earl_m2t.sysml2.limits import Refused, line_and_column, refuse_unreadable
 
 __all__ = [
     "Sysml2SyntaxError",
@@ -78,6 +80,11 @@ def parse_text(text: str, file_name: str = "<text>", model: bool = False) -> Any
     """
     metamodel = _model_metamodel() if model else _metamodel()
     try:
+        refuse_unreadable(text)
+    except Refused as refused:
+        line, column = line_and_column(text, refused.offset)
+        raise Sysml2SyntaxError(file_name, line, column, refused.message) from None
+    try:
         return metamodel.model_from_str(text, file_name=file_name)
     except TextXSyntaxError as error:
         raise Sysml2SyntaxError(
@@ -92,10 +99,19 @@ def parse_text(text: str, file_name: str = "<text>", model: bool = False) -> Any
 def parse_file(path: Path, model: bool = False) -> Any:
     """Parse a SysML v2 file (UTF-8) and return its root namespace."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise Sysml2SyntaxError(str(path), 0, 0, f"cannot read the file: {error}") from None
+        text = read_regular_bytes(path).decode("utf-8")
+    except ModelReadError as error:
+        raise Sysml2SyntaxError(str(path), 0, 0, f"cannot read the file: {error.message}") from None
+    except UnicodeDecodeError as error:
+        line, column = _position(error.object, error.start)
+        raise Sysml2SyntaxError(str(path), line, column, f"not UTF-8 text: {error.reason}") from None
     return parse_text(text, str(path), model)
+
+
+def _position(data: bytes, offset: int) -> tuple[int, int]:
+    """1-based line and column (in bytes) of a byte offset."""
+    line_start = data.rfind(b"\n", 0, offset) + 1
+    return data.count(b"\n", 0, offset) + 1, offset - line_start + 1
 
 
 def _syntax_message(error: TextXSyntaxError, text: str) -> str:

@@ -13,6 +13,7 @@ from pathlib import Path
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
 from earl_m2t.profile import load_profile
+from earl_m2t.shorten import shortened_words
 from earl_m2t.read.xmi import RawModel, index_tree
 from earl_m2t.sysml2.parser import Sysml2SyntaxError, parse_file
 from earl_m2t.sysml2.subset import Outside, outside_constructs
@@ -31,17 +32,13 @@ class Sysml2ReadError(ModelReadError):
 
     def one_line(self) -> str:
         if self.line and self.column:
-            return f"{self.file}:{self.line}:{self.column}: error: {self.message}"
+            return shortened_words(f"{self.file}:{self.line}:{self.column}: error: {self.message}")
         return super().one_line()
 
 
 def read_sysml2(path: Path) -> RawModel:
     """The raw model of a ``.sysml`` file; raises :class:`Sysml2ReadError` when unreadable."""
     file = str(path)
-    if path.is_dir():
-        raise ModelReadError(file, "is a directory, not a model file")
-    if not path.exists():
-        raise ModelReadError(file, "no such file")
     try:
         root = parse_file(path, model=True)
     except Sysml2SyntaxError as error:

@@ -44,13 +44,15 @@ class UmlWriter:
         self.stereotypes: dict[str, list[StereotypeApplication]] = {}
         self._ids: dict[int, str] = {}
         self._used: set[str] = set()
+        self._last: dict[str, int] = {}  # wanted id -> the last number tried for it
 
     # -- ids ----------------------------------------------------------------------------
     def new_id(self, wanted: str) -> str:
-        candidate, n = wanted, 1
-        while candidate in self._used:
+        candidate, n = wanted, self._last.get(wanted, 1)
+        while candidate in self._used:  # resumes where the last id wanted as ``wanted`` ended: linear
             n += 1
             candidate = f"{wanted}#{n}"
+        self._last[wanted] = n
         self._used.add(candidate)
         return candidate
 

@@ -927,6 +927,27 @@ def field_names_differ_in_ros_spelling(s: Sample) -> Expect:
     return Expect(s.id(field), "motion_finished")
 
 
+def name_too_long(s: Sample) -> Expect:
+    """D005: the dataType EncoderReading gets a 65-character name, one more than every target's file names allow."""
+    datatype = s.datatype("EncoderReading")
+    datatype.set("name", "EncoderReading" + "X" * 51)
+    return Expect(s.id(datatype), "DataTypes::EncoderReading" + "X" * 51)
+
+
+def name_of_thousands_of_characters(s: Sample) -> Expect:
+    """D005: the pf planTask/pf gets a 5,000-character name (the element path is shown shortened)."""
+    pf = next(el for el in s.root.iter() if el.get("name") == "planTask/pf")
+    pf.set("name", "p" * 5000 + "/pf")
+    return Expect(s.id(pf), "task/a.cs." + "p" * 38 + "…" + "p" * 21 + "/pf (5013 characters)")
+
+
+def windows_device_name(s: Sample) -> Expect:
+    """D006: the dataType GripperStatus is renamed Aux: its message would be Aux.msg."""
+    datatype = s.datatype("GripperStatus")
+    datatype.set("name", "Aux")
+    return Expect(s.id(datatype), "DataTypes::Aux")
+
+
 def datatype_names_differ_in_ros_spelling(s: Sample) -> Expect:
     """D004: the dataType EncoderReading is renamed Motor_Current, next to MotorCurrent: both
     become the ROS message MotorCurrent."""
@@ -1119,6 +1140,9 @@ VARIANTS: dict[str, Mutation] = {
     "D004-datatype-case": datatype_names_differ_in_case,
     "D004-ros-field": field_names_differ_in_ros_spelling,
     "D004-ros-message": datatype_names_differ_in_ros_spelling,
+    "D005": name_too_long,
+    "D005-thousands": name_of_thousands_of_characters,
+    "D006": windows_device_name,
     "R001": part_name_contradicts_block,
     "R001-block-suffix": block_suffix_contradicts_stereotype,
     "R002": duplicate_xmi_id,

@@ -137,6 +137,7 @@ TYPES = papyrus(f"""\
 
 @pytest.fixture
 def split(tmp_path: Path) -> Path:
+    (tmp_path / ".git").mkdir()  # a repository: model/ may use ../lib/ (files outside it are not read)
     write(tmp_path / "model" / "agents.uml", AGENTS)
     write(tmp_path / "model" / "EARL-model.uml", EARL_MODEL)
     write(tmp_path / "lib" / "types.uml", TYPES)

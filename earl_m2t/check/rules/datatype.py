@@ -10,7 +10,9 @@ from earl_m2t.check.registry import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, Memory, PartialFunction, PrimitivePredicate
 from earl_m2t.model.graph import datatype_graph
 from earl_m2t.model.location import Location
-from earl_m2t.model.naming import collision_key, field_name, identifier_problem, message_name
+from earl_m2t.model.naming import (collision_key, field_name, identifier_problem, length_problem, message_name,
+                                   windows_reserved)
+from earl_m2t.shorten import shortened
 
 
 @rule("D001")
@@ -107,3 +109,32 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
         if len(names) > 1 and path not in reported:
             yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same ROS name '{key}'",
                           location, path)
+
+
+def _named_with_model(model: EarlModel) -> Iterator[tuple[str, str, Location]]:
+    """(name, path, location) of every name a generator uses, the model's and the systems' included."""
+    if model.name:
+        system = model.system
+        yield model.name, "model", system.location if system is not None else Location(model.file, 0, 0)
+    for system in model.systems:
+        yield system.name, system.path, system.location
+    for name, path, location, _, _ in _named(model):
+        yield name, path, location
+
+
+@rule("D005")
+def name_too_long(model: EarlModel) -> Iterator[Finding]:
+    for name, path, location in _named_with_model(model):
+        problem = length_problem(name)
+        if problem:
+            yield Finding(f"{shortened(path)}: the name is too long for generated files: {problem}", location,
+                          shortened(path))
+
+
+@rule("D006")
+def windows_reserved_name(model: EarlModel) -> Iterator[Finding]:
+    for name, path, location in _named_with_model(model):
+        device = windows_reserved(name)
+        if device:
+            yield Finding(f"{shortened(path)}: the name gives files named '{device}', a device name Windows "
+                          f"reserves (such files cannot be created there)", location, shortened(path))

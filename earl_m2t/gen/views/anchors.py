@@ -26,6 +26,7 @@ class AnchorIndex:
     def __init__(self) -> None:
         self._by_path: dict[str, str] = {}
         self._taken: set[str] = set()
+        self._last_number: dict[str, int] = {}
 
     def add(self, path: str, *aliases: str) -> str:
         """The id of ``path`` (assigned on first use); ``aliases`` (instance paths) resolve to it."""
@@ -34,9 +35,12 @@ class AnchorIndex:
         else:
             base = slug(path)
             anchor, number = base, 1
-            while anchor.lower() in self._taken:
-                number += 1
-                anchor = f"{base}-{number}"
+            if anchor.lower() in self._taken:  # numbering resumes where this base's last ended: linear
+                number = self._last_number.get(base.lower(), 1)
+                while anchor.lower() in self._taken:
+                    number += 1
+                    anchor = f"{base}-{number}"
+                self._last_number[base.lower()] = number
             self._taken.add(anchor.lower())
             self._by_path[path] = anchor
         for alias in aliases:

@@ -307,7 +307,7 @@ class _Builder:
         pp_base_accessors = self._accessors(tuple(paths) + tuple(mem_paths), (), paths, mem_paths, ports, memories)
 
         fsm = sub.fsm
-        if fsm is None or fsm.initial is None:
+        if fsm is None or not fsm.initial or all(s.name != fsm.initial for s in fsm.states):
             raise GenError(f"{where}: the FSM has no single initial state (rule B001)")
         states = list(fsm.states)
         state_index = {s.name: i for i, s in enumerate(states)}

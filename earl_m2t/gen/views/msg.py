@@ -87,6 +87,7 @@ class _Names:
 
     def __init__(self, problems: list[str], fold_case: bool, joiner: str) -> None:
         self._taken: dict[str, str] = {}  # key -> the model name that has it
+        self._last_number: dict[str, int] = {}
         self._problems = problems
         self._fold = fold_case
         self._joiner = joiner
@@ -97,9 +98,12 @@ class _Names:
             problem = problem or f"'{ros}' is reserved in ROS messages or their generated code"
             ros += suffix
         base, n = ros, 1
-        while self._key(ros) in self._taken:
-            n += 1
-            ros = f"{base}{self._joiner}{n}"
+        if self._key(ros) in self._taken:  # numbering resumes where this base's last ended: linear
+            n = self._last_number.get(self._key(base), 1)
+            while self._key(ros) in self._taken:
+                n += 1
+                ros = f"{base}{self._joiner}{n}"
+            self._last_number[self._key(base)] = n
         if problem:
             self._problems.append(f"D003 {where}: '{name}' cannot become a ROS {what}: {problem} "
                                   f"(--force: '{ros}')")

@@ -69,13 +69,17 @@ class _Scope:
         self.what = what
         self.strict = strict
         self.taken: dict[str, str] = {}  # ROS name -> the name it was made from
+        self._last_number: dict[str, int] = {}
 
     def take(self, name: str, where: str) -> str:
         ros = base = _name(field_name(name), self.what)
         n = 1
-        while ros in self.taken:
-            n += 1
-            ros = f"{base}_{n}"
+        if ros in self.taken:  # numbering resumes where this base's last ended: linear, not quadratic
+            n = self._last_number.get(base, 1)
+            while ros in self.taken:
+                n += 1
+                ros = f"{base}_{n}"
+            self._last_number[base] = n
         if n > 1 and self.strict:
             raise GenError(f"D004 {where}: '{name}' and '{self.taken[base]}' both map to the ROS {self.what} "
                            f"'{base}' (--force: '{ros}')")

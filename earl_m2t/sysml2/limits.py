@@ -1,0 +1,73 @@
+"""What the SysML v2 reader refuses before parsing: control characters and nesting beyond ``MAX_NESTING``.
+
+Both are reported as ``file:line:col: error: ...`` at the offending character. Control
+characters (C0 other than tab, line feed and carriage return; DEL; C1; U+FFFE, U+FFFF) cannot be
+written into names, strings or XMI, and are invisible in review; nesting (``{``, ``(``, ``[``,
+counted over the whole text) deeper than ``MAX_NESTING`` levels is refused rather
+than parsed, so that every input ends in a model or a one-line error. One linear pass each.
+"""
+
+from __future__ import annotations
+
+import re
+
+MAX_NESTING = 200
+
+_CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ufffe\uffff]")
+# what the nesting count skips: strings, quoted names, comments (each up to its end, or the file's)
+_SKIPPED = re.compile(r"""'(?:[^'\\]|\\.)*'?|"(?:[^"\\]|\\.)*"?|/\*.*?(?:\*/|\Z)|//[^\n]*""", re.DOTALL)
+_OPEN = "{(["
+_BRACKET = re.compile(r"[{}()\[\]]")
+_ESCAPE = re.compile(r"\\(.)", re.DOTALL)
+_CONTROL_ESCAPES = "bf"
+
+
+class Refused(Exception):
+    def __init__(self, offset: int, message: str) -> None:
+        self.offset = offset
+        self.message = message
+        super().__init__(message)
+
+
+def refuse_unreadable(text: str) -> None:
+    """Raise :class:`Refused` (with the offset) for a control character or nesting beyond ``MAX_NESTING``."""
+    control = _CONTROL.search(text)
+    if control is not None:
+        code = ord(control.group(0))
+        raise Refused(control.start(), f"control character U+{code:04X} is not allowed in SysML v2 text")
+    index = 0
+    length = len(text)
+    while index < length:  # strings and quoted names: no escape that makes a control character
+        char = text[index]
+        if char in "'\"/":
+            skipped = _SKIPPED.match(text, index)
+            if skipped is not None and skipped.end() > index:
+                if char != "/":
+                    _refuse_control_escape(skipped.group(0), index)
+                index = skipped.end()
+                continue
+        index += 1
+    # Nesting is counted over the whole text, strings and comments included: where a string or
+    # comment ends is the parser's to decide (an unclosed quote), and real models never come near.
+    depth = 0
+    for bracket in _BRACKET.finditer(text):
+        if bracket.group(0) in _OPEN:
+            depth += 1
+            if depth > MAX_NESTING:
+                raise Refused(bracket.start(), f"nested more than {MAX_NESTING} levels deep "
+                                               f"('{bracket.group(0)}'): not read")
+        else:
+            depth = max(depth - 1, 0)
+
+
+def _refuse_control_escape(quoted: str, offset: int) -> None:
+    """``\\b`` and ``\\f`` in a string or quoted name would give a control character."""
+    for escape in _ESCAPE.finditer(quoted):
+        if escape.group(1) in _CONTROL_ESCAPES:
+            raise Refused(offset + escape.start(), f"escape '{escape.group(0)}' gives a control character, "
+                          "which is not allowed in SysML v2 names and strings")
+
+
+def line_and_column(text: str, offset: int) -> tuple[int, int]:
+    """1-based line and column of a character offset."""
+    return text.count("\n", 0, offset) + 1, offset - (text.rfind("\n", 0, offset) + 1) + 1
