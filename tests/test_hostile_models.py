@@ -254,10 +254,11 @@ def test_a_gen_failing_part_way_says_what_it_wrote(tmp_path: Path) -> None:
     result = earl("gen", str(SAMPLE), "-o", str(out))
     assert result.returncode == 2
     wrote = result.stdout.splitlines()
-    assert wrote == [f"wrote {out / 'CMakeLists.txt'}"]
-    assert (out / "CMakeLists.txt").is_file()
+    # files are written in path order: the source map and CMakeLists.txt come before generated/
+    assert wrote == [f"wrote {out / '.earl-trace.json'}", f"wrote {out / 'CMakeLists.txt'}"]
+    assert (out / "CMakeLists.txt").is_file() and (out / ".earl-trace.json").is_file()
     (error,) = result.stderr.strip().splitlines()
-    assert "1 file(s) were written before it (listed above)" in error and "were not" in error
+    assert "2 file(s) were written before it (listed above)" in error and "were not" in error
 
 
 def test_windows_device_names_are_flagged(tmp_path: Path) -> None:
