@@ -24,6 +24,7 @@ from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
 from earl_m2t.cli import trace as trace_command
+from earl_m2t.cli import verify as verify_command
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -48,6 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
     diff_command.add_parser(commands)
     trace_command.add_parser(commands)
     import_command.add_parser(commands)
+    verify_command.add_parser(commands)
     return parser
 
 
