@@ -34,7 +34,8 @@ class LtlProperty:
             if atom:
                 sub_path, state = atom.group(1), atom.group(2)
                 info = spec.state_variable(sub_path)
-                fsm = model.subsystem(sub_path).fsm if model.subsystem(sub_path) else None
+                subsystem = model.subsystem(sub_path)
+                fsm = subsystem.fsm if subsystem is not None else None
                 if fsm is None or fsm.state(state) is None:
                     raise self._error(pos, f"no state {state} of a subsystem {sub_path}")
                 number = [s.name for s in fsm.states].index(state)

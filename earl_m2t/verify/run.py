@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -94,7 +95,7 @@ def _bounded(run: spin.PanRun, options: VerifyOptions) -> str:
             f"(depth limit {options.depth})")
 
 
-def _reachability(spec: Specification, folder: Path, options: VerifyOptions, left, result: VerifyResult) -> None:
+def _reachability(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
     binary = spin.build(folder, spec.text, "pan_reach", ("-DNOREDUCE", "-DSAFETY"), left())
     run = spin.search(binary, ("-A", "-E", *_pan_flags(options)), left())
     _account(run, result)
@@ -130,7 +131,7 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
     result.proven.append(f"reachability of the FSM states of {len(spec.processes)} subsystem(s)")
 
 
-def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left, result: VerifyResult) -> None:
+def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
     if not spec.waits:
         result.proven.append("no deadlock: no state waits for an obligatory input without a timeout")
         return
@@ -150,7 +151,7 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left, r
         result.proven.append("no deadlock: no reachable state has a subsystem waiting for an input nobody sends")
 
 
-def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptions, left,
+def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptions, left: Callable[[], float],
          result: VerifyResult) -> None:
     spec = translate(model, ((prop.name, prop.promela(model)),))
     binary = spin.build(folder, spec.text, f"pan_{prop.name}", (), left())
@@ -168,11 +169,11 @@ def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptio
 
 def _trace(spec: Specification, replay: str) -> tuple[TraceStep, ...]:
     by_key = {}
-    for step in spec.steps:
-        info = next(i for i, p in enumerate(spec.processes) if p.subsystem is step.subsystem)
-        state = spec.processes[info].states.index(step.state)
-        outcome = spec.processes[info].outcomes[state].outcomes.index(step.outcome)
-        by_key[(info, state, outcome)] = step
+    for generated in spec.steps:
+        info = next(i for i, p in enumerate(spec.processes) if p.subsystem is generated.subsystem)
+        state = spec.processes[info].states.index(generated.state)
+        outcome = spec.processes[info].outcomes[state].outcomes.index(generated.outcome)
+        by_key[(info, state, outcome)] = generated
     steps: list[TraceStep] = []
     for match in re.finditer(rf"{OUTCOME_MARK} (\d+) (\d+) (\d+)", replay):
         step: Step = by_key[(int(match.group(1)), int(match.group(2)), int(match.group(3)))]
