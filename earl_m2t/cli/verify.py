@@ -46,7 +46,10 @@ def run(args: argparse.Namespace) -> int:
         print(exc.one_line(), file=sys.stderr)
         return 2
     model = loaded.model
-    properties = tuple(LtlProperty(f"ltl{i}", text, Location("--ltl", i + 1, 1)) for i, text in enumerate(args.ltl))
+    given = tuple(LtlProperty(f"ltl{i}", text, Location("--ltl", i + 1, 1)) for i, text in enumerate(args.ltl))
+    written = tuple(LtlProperty(f"ltl{len(given) + i}", p.text, p.location, p.label)
+                    for i, p in enumerate(loaded.properties))
+    properties = written + given
     try:
         for prop in properties:
             prop.promela(model)  # a syntax error or unknown state: one line before SPIN runs

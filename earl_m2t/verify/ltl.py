@@ -18,9 +18,14 @@ class LtlError(Exception):
 
 @dataclass(frozen=True, slots=True)
 class LtlProperty:
-    name: str
+    name: str  # the identifier SPIN knows it by
     text: str
     location: Location
+    label: str = ""  # the name the model gives it
+
+    @property
+    def title(self) -> str:
+        return self.label or self.name
 
     def promela(self, model: EarlModel) -> str:
         from earl_m2t.verify.promela import translate
@@ -59,4 +64,6 @@ class LtlProperty:
     def _error(self, offset: int, message: str) -> LtlError:
         loc = self.location
         column = (loc.column or 1) + offset
+        if loc.line == 0:
+            return LtlError(f"{loc.file}: {self.title}: column {column}: {message}")
         return LtlError(f"{loc.file}:{loc.line}:{column}: {message}")

@@ -52,7 +52,6 @@ class VerifyResult:
     states: int = 0
     transitions: int = 0
     depth: int = 0
-    seconds: float = 0.0
     processes: list[str] = field(default_factory=list)
     left_out: list[str] = field(default_factory=list)
 
@@ -76,7 +75,6 @@ def verify_model(model: EarlModel, options: VerifyOptions) -> VerifyResult:
                 _ltl(model, prop, folder, options, left, result)
         except spin.OutOfTime as exc:
             result.not_proven.append(f"the time limit of {options.timeout:g} s ran out in {exc}")
-    result.seconds = round(time.monotonic() - started, 2)
     return result
 
 
@@ -128,7 +126,8 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
                     "but no transition to another state can be taken when it does",
                     state.path, state.location))
         # the unreachable states and the states without a way out are proven by the full search
-    result.proven.append(f"reachability of the FSM states of {len(spec.processes)} subsystem(s)")
+    result.proven.append(f"which FSM states are reachable, in {len(spec.processes)} subsystem process(es) "
+                         "(exhaustive search)")
 
 
 def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
@@ -141,10 +140,11 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: C
     if run.errors:
         trace = _trace(spec, spin.replay(folder, left()))
         stuck = _waiting_at_end(spec, trace)
+        first = stuck[0][0] if stuck else spec.processes[0].subsystem
+        waiting = "; ".join(text for _, text in stuck)
         result.findings.append(Finding(
-            DEADLOCK, "the system can deadlock: " + "; ".join(stuck) + " and nothing can send it",
-            spec.processes[0].subsystem.path if not stuck else stuck[0].split(" ")[0],
-            spec.processes[0].subsystem.location, trace))
+            DEADLOCK, f"the system can deadlock: {waiting}, and no subsystem can send any more",
+            first.path, first.location, trace))
     elif not run.complete:
         result.not_proven.append("deadlock freedom: " + _bounded(run, options))
     else:
@@ -159,7 +159,7 @@ def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptio
     _account(run, result)
     if run.errors:
         trace = _trace(spec, spin.replay(folder, left()))
-        result.findings.append(Finding(LTL_VIOLATED, f"property {prop.text} does not hold", prop.name,
+        result.findings.append(Finding(LTL_VIOLATED, f"property {prop.text} does not hold", prop.title,
                                        prop.location, trace))
     elif not run.complete:
         result.not_proven.append(f"{prop.text}: " + _bounded(run, options))
@@ -184,7 +184,7 @@ def _trace(spec: Specification, replay: str) -> tuple[TraceStep, ...]:
     return tuple(steps)
 
 
-def _waiting_at_end(spec: Specification, trace: tuple[TraceStep, ...]) -> list[str]:
+def _waiting_at_end(spec: Specification, trace: tuple[TraceStep, ...]) -> list[tuple[Subsystem, str]]:
     from earl_m2t.verify.promela import waits_forever
 
     current = {p.subsystem.path: p.subsystem.fsm.initial for p in spec.processes if p.subsystem.fsm}
@@ -197,5 +197,6 @@ def _waiting_at_end(spec: Specification, trace: tuple[TraceStep, ...]) -> list[s
             continue
         waits = waits_forever(info.subsystem, state)
         if waits:
-            stuck.append(f"{info.subsystem.path} in {state.name} waits for {', '.join(b.name for b in waits)}")
+            stuck.append((info.subsystem,
+                          f"{info.subsystem.path} in {state.name} waits for {', '.join(b.name for b in waits)}"))
     return stuck

@@ -105,3 +105,70 @@ def test_a_property_error_is_one_line(capsys: pytest.CaptureFixture[str]) -> Non
     err = capsys.readouterr().err
     assert code == 2
     assert err.strip() == "earl-m2t: verify: --ltl:1:5: no state nowhere of a subsystem manip/a.cs"
+
+
+WRITTEN = "earl-m2t: ltl estopLatches: " + ESTOP
+BROKEN = "earl-m2t: ltl stayIdle: [] (manip/a.cs@idle -> [] manip/a.cs@idle)"
+
+
+def _with_comment(sample: Path, tmp_path: Path, body: str) -> Path:
+    """The sample with a comment holding ``body`` on its system block, as each tool writes one."""
+    encoding = "cp1252" if ".ea." in sample.name else "utf-8"  # Enterprise Architect writes windows-1252
+    text = sample.read_text(encoding=encoding)
+    escaped = body.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    if sample.suffix == ".sysml":
+        anchor = "part def PickAndPlaceSystem :> System {"
+        new = f"{anchor}\n            comment /* {body} */"
+    elif "cameo" in sample.name:
+        anchor = "name='PickAndPlaceSystem'>"
+        new = f"{anchor}\n<ownedComment xmi:type='uml:Comment' xmi:id='_ltl_note' body='{escaped}'/>"
+    elif ".ea." in sample.name:
+        anchor = 'name="PickAndPlaceSystem" visibility="public">'
+        new = f'{anchor}\n<ownedComment xmi:type="uml:Comment" xmi:id="EAID_LTL_NOTE" body="{escaped}"/>'
+    else:
+        anchor = 'name="PickAndPlaceSystem">'
+        new = f'{anchor}\n<ownedComment xmi:type="uml:Comment" xmi:id="_ltl_note"><body>{escaped}</body></ownedComment>'
+    assert text.count(anchor) == 1, sample
+    path = tmp_path / sample.name
+    path.write_text(text.replace(anchor, new), encoding=encoding)
+    return path
+
+
+SAMPLES = {
+    "papyrus": SAMPLE_UML,
+    "cameo": ROOT / "samples" / "pick_and_place" / "pick_and_place.cameo.xmi",
+    "ea": ROOT / "samples" / "pick_and_place" / "pick_and_place.ea.xml",
+    "sysml": SAMPLE_SYSML,
+}
+
+
+@pytest.mark.parametrize("dialect", sorted(SAMPLES))
+def test_a_property_written_in_the_model_is_proven(dialect: str, tmp_path: Path,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    path = _with_comment(SAMPLES[dialect], tmp_path, WRITTEN)
+    code, result = _verify(path, capsys)
+    assert code == 0, result
+    assert f"{ESTOP} holds" in result["proven"]
+
+
+@pytest.mark.parametrize("dialect", ["papyrus", "sysml"])
+def test_a_violated_property_in_the_model_points_at_its_comment(dialect: str, tmp_path: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    path = _with_comment(SAMPLES[dialect], tmp_path, BROKEN)
+    code, result = _verify(path, capsys)
+    assert code == 1
+    (finding,) = result["findings"]
+    assert finding["code"] == "V005" and finding["element"] == "stayIdle"
+    assert finding["file"] == str(path) and finding["line"] > 0
+    assert "stayIdle" in path.read_text(encoding="utf-8").splitlines()[finding["line"] - 1]
+
+
+def test_a_syntax_error_in_the_model_is_one_line_with_file_line_and_column(tmp_path: Path,
+                                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    path = _with_comment(SAMPLE_SYSML, tmp_path, "earl-m2t: ltl typo: [] (manip/a.cs@idle => x)")
+    code = main(["verify", str(path)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    line = next(i for i, text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if "ltl typo" in text)
+    assert err.startswith(f"earl-m2t: verify: {path}:{line}:") and "unexpected '=>" in err, err
+    assert len(err.splitlines()) == 1
