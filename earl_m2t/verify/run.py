@@ -15,6 +15,7 @@ from earl_m2t.verify import spin
 from earl_m2t.verify.ltl import LtlProperty
 from earl_m2t.verify.promela import OUTCOME_MARK, Specification, Step, translate
 
+MEMORY_MB = 1024  # pan's state storage (-DMEMLIM)
 UNREACHABLE, DEADLOCK, NEVER_ENDS, NO_WAY_OUT, LTL_VIOLATED = "V001", "V002", "V003", "V004", "V005"
 
 
@@ -89,12 +90,17 @@ def _account(run: spin.PanRun, result: VerifyResult) -> None:
 
 
 def _bounded(run: spin.PanRun, options: VerifyOptions) -> str:
-    return (f"the search stopped at its bound after {run.states} states, {run.transitions} transitions "
-            f"(depth limit {options.depth})")
+    if run.interrupted:
+        bound = f"the time limit of {options.timeout:g} s"
+    elif "out of memory" in run.output.lower():
+        bound = f"the memory limit of {MEMORY_MB} MB"
+    else:
+        bound = f"the depth limit {options.depth}"
+    return f"the search stopped at {bound} after {run.states} states, {run.transitions} transitions"
 
 
 def _reachability(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
-    binary = spin.build(folder, spec.text, "pan_reach", ("-DNOREDUCE", "-DSAFETY"), left())
+    binary = spin.build(folder, spec.text, "pan_reach", ("-DSAFETY", f"-DMEMLIM={MEMORY_MB}"), left())
     run = spin.search(binary, ("-A", "-E", *_pan_flags(options)), left())
     _account(run, result)
     if not run.complete:
@@ -134,7 +140,7 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: C
     if not spec.waits:
         result.proven.append("no deadlock: no state waits for an obligatory input without a timeout")
         return
-    binary = spin.build(folder, spec.text, "pan_safety", ("-DSAFETY",), left())
+    binary = spin.build(folder, spec.text, "pan_safety", ("-DSAFETY", f"-DMEMLIM={MEMORY_MB}"), left())
     run = spin.search(binary, (*_pan_flags(options), "-E"), left())
     _account(run, result)
     if run.errors:
@@ -154,7 +160,7 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: C
 def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptions, left: Callable[[], float],
          result: VerifyResult) -> None:
     spec = translate(model, ((prop.name, prop.promela(model)),))
-    binary = spin.build(folder, spec.text, f"pan_{prop.name}", (), left())
+    binary = spin.build(folder, spec.text, f"pan_{prop.name}", (f"-DMEMLIM={MEMORY_MB}",), left())
     run = spin.search(binary, ("-a", "-N", prop.name, *_pan_flags(options)), left())
     _account(run, result)
     if run.errors:

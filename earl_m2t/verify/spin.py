@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +29,8 @@ class PanRun:
     states: int  # states stored
     transitions: int
     depth: int  # depth reached
-    complete: bool  # the search was not cut short by the depth or memory bound
+    complete: bool  # the search was not cut short by the depth, memory or time bound
+    interrupted: bool  # the time ran out
     unreached: frozenset[int]  # lines of the specification never executed
 
 
@@ -52,10 +54,26 @@ def build(folder: Path, text: str, binary: str, flags: tuple[str, ...], seconds:
 
 
 def search(binary: Path, args: tuple[str, ...], seconds: float) -> PanRun:
-    output = _call([str(binary), *args], binary.parent, seconds, "pan")
-    errors = int(_number(r"errors: (\d+)", output))
-    incomplete = "max search depth too small" in output or "out of memory" in output.lower() \
-        or "aborted" in output.lower()
+    """Runs pan; when the time runs out it is interrupted, and prints what it explored so far."""
+    if seconds <= 0:
+        raise OutOfTime("pan")
+    interrupted = False
+    with subprocess.Popen([str(binary), *args], cwd=binary.parent, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True) as pan:
+        try:
+            output, _ = pan.communicate(timeout=seconds)
+        except subprocess.TimeoutExpired:
+            interrupted = True
+            pan.send_signal(signal.SIGINT)
+            try:
+                output, _ = pan.communicate(timeout=30)
+            except subprocess.TimeoutExpired:
+                pan.kill()
+                output, _ = pan.communicate()
+    errors = 0 if interrupted else int(_number(r"errors: (\d+)", output))
+    lowered = output.lower()
+    incomplete = interrupted or "max search depth too small" in output or "out of memory" in lowered \
+        or "aborted" in lowered or "interrupted" in lowered
     return PanRun(
         output=output,
         errors=errors,
@@ -63,6 +81,7 @@ def search(binary: Path, args: tuple[str, ...], seconds: float) -> PanRun:
         transitions=int(_number(r"(\d+) transitions", output)),
         depth=int(_number(r"depth reached (\d+)", output)),
         complete=not incomplete,
+        interrupted=interrupted,
         unreached=frozenset(int(n) for n in re.findall(rf"{re.escape(SPEC)}:(\d+), state", output)),
     )
 
