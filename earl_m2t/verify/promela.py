@@ -53,6 +53,8 @@ class Specification:
     tracked: list[TrackedBuffer] = field(default_factory=list)
     waits: bool = False  # some state waits for obligatory inputs without a timeout
     skipped: list[tuple[Subsystem, str]] = field(default_factory=list)  # left out, and why
+    # left out because no iteration changes anything: they stay in their initial state
+    static: list[ProcessInfo] = field(default_factory=list)
 
     def state_variable(self, subsystem_path: str) -> ProcessInfo | None:
         return next((p for p in self.processes if p.subsystem.path == subsystem_path), None)
@@ -96,6 +98,7 @@ def translate(model: EarlModel, ltl: tuple[tuple[str, str], ...] = ()) -> Specif
         body = _process_body(info, tracked, senders, len(spec.processes))
         if not any(isinstance(item, tuple) for item in body):
             spec.skipped.append((sub, "its iterations change nothing the properties observe"))
+            spec.static.append(info)
             continue
         spec.processes.append(info)
         bodies.append(body)

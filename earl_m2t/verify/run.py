@@ -107,7 +107,7 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
         result.not_proven.append("reachability: " + _bounded(run, options))
         return
     taken = [step for step in spec.steps if step.line not in run.unreached]
-    for info in spec.processes:
+    for info in [*spec.processes, *spec.static]:
         sub, fsm = info.subsystem, info.subsystem.fsm
         assert fsm is not None
         entered = {fsm.initial} | {s.outcome.transition.target for s in taken

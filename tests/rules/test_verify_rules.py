@@ -172,3 +172,28 @@ def test_a_syntax_error_in_the_model_is_one_line_with_file_line_and_column(tmp_p
     line = next(i for i, text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if "ltl typo" in text)
     assert err.startswith(f"earl-m2t: verify: {path}:{line}:") and "unexpected '=>" in err, err
     assert len(err.splitlines()) == 1
+
+
+def test_a_removed_transition_leaves_its_target_unreachable(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """task/a.cs without its transition supervise → abort: abort is never entered (V001), and supervise,
+    whose behaviour still ends when taskAborted holds, has no way out (V004)."""
+    source = SAMPLE_SYSML.read_text(encoding="utf-8")
+    start = source.index("transition 'supervise,abort/t'")
+    end = source.index("}", start) + 1
+    path = tmp_path / "no_abort.sysml"
+    path.write_text(source[:start] + source[end:], encoding="utf-8")
+    code, result = _verify(path, capsys)
+    assert code == 1
+    assert sorted((f["code"], f["element"]) for f in result["findings"]) == [
+        ("V001", "task/a.cs.fsm.abort"), ("V004", "task/a.cs.fsm.supervise")]
+
+
+def test_sarif_carries_the_counterexample_as_a_code_flow(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["verify", str(SAMPLE_UML), "--format", "sarif", "--ltl",
+                 "[] (manip/a.cs@jointMove -> [] manip/a.cs@jointMove)"])
+    sarif = json.loads(capsys.readouterr().out)
+    assert code == 1 and sarif["version"] == "2.1.0"
+    (result,) = sarif["runs"][0]["results"]
+    assert result["ruleId"] == "V005"
+    steps = [loc["location"]["message"]["text"] for loc in result["codeFlows"][0]["threadFlows"][0]["locations"]]
+    assert any("manip/a.cs: idle → jointMove" in step for step in steps)
