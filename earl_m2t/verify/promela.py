@@ -104,9 +104,9 @@ def translate(model: EarlModel, ltl: tuple[tuple[str, str], ...] = ()) -> Specif
         bodies.append(body)
         names = " ".join(f"{i}={s.name}" for i, s in enumerate(fsm.states))
         initial = next(i for i, s in enumerate(fsm.states) if s.name == fsm.initial)
-        # written by its own process only: `local` lets SPIN's partial order reduction use that;
-        # a never claim reads the states, so not with LTL properties
-        prefix = "" if ltl else "local "
+        # written and read by its own process only: `local` lets SPIN's partial order reduction
+        # use that; a never claim or the watchdog reads the states, so not with those
+        prefix = "" if ltl or spec.waits else "local "
         lines.append(f"{prefix}byte {info.variable} = {initial}; /* {sub.path}: {names} */")
     for info, body in zip(spec.processes, bodies):
         lines.append(f"active proctype subsystem{info.variable[2:]}() {{ /* {info.subsystem.path} */")

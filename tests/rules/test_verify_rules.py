@@ -197,3 +197,11 @@ def test_sarif_carries_the_counterexample_as_a_code_flow(capsys: pytest.CaptureF
     assert result["ruleId"] == "V005"
     steps = [loc["location"]["message"]["text"] for loc in result["codeFlows"][0]["threadFlows"][0]["locations"]]
     assert any("manip/a.cs: idle → jointMove" in step for step in steps)
+
+
+def test_the_output_is_the_same_from_run_to_run(capsys: pytest.CaptureFixture[str]) -> None:
+    runs = []
+    for _ in range(2):
+        main(["verify", str(SAMPLE_UML), "--ltl", "[] (manip/a.cs@jointMove -> [] manip/a.cs@jointMove)"])
+        runs.append(capsys.readouterr().out)
+    assert runs[0] == runs[1] and "counterexample:" in runs[0]
