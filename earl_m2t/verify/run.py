@@ -124,14 +124,13 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
                 result.findings.append(Finding(
                     NEVER_ENDS, f"behaviour {bb.path} of state {state.path} never ends: its tc and ec cannot "
                     "become true with the model's exclusions, yet they are not written FALSE",
-                    bb.path, (bb.tc or bb.ec or bb).location if (bb.tc or bb.ec) else bb.location))
+                    bb.path, bb.tc.location if bb.tc is not None else bb.location))
             elif ends and outcomes.exact and all(o.transition is None or o.transition.target == state.name
                                                  for o in ends):
                 result.findings.append(Finding(
                     NO_WAY_OUT, f"state {state.path} has no way out: its behaviour {bb.path if bb else ''} ends, "
                     "but no transition to another state can be taken when it does",
                     state.path, state.location))
-        # the unreachable states and the states without a way out are proven by the full search
     result.proven.append(f"which FSM states are reachable, in {len(spec.processes)} subsystem process(es) "
                          "(exhaustive search)")
 
