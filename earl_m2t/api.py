@@ -18,6 +18,7 @@ from earl_m2t.sysml2.files import is_sysml2
 
 if TYPE_CHECKING:
     from earl_m2t.check.suppress import Suppression
+    from earl_m2t.verify.ltl import LtlProperty
 
 
 @dataclass(frozen=True)
@@ -27,6 +28,7 @@ class Loaded:
     model: EarlModel
     diagnostics: tuple[Diagnostic, ...]
     suppressions: tuple[Suppression, ...] = ()  # the model's ``earl-m2t: ignore[…]`` comments
+    properties: tuple[LtlProperty, ...] = ()  # the model's ``earl-m2t: ltl NAME: …`` comments (verify)
 
 
 def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path | str] = ()) -> Loaded:
@@ -37,6 +39,7 @@ def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path |
     specialise EARL; such files beside the model are read as well (docs/modelling-guide.md).
     """
     from earl_m2t.check.suppress import read_suppressions
+    from earl_m2t.verify.directives import read_properties
     from earl_m2t.profile import load_profile
     from earl_m2t.stereotypes.discover import vocabulary_for
 
@@ -49,7 +52,7 @@ def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path |
     else:
         raw = load_raw_model(file, dialect)
     result = lift(raw, vocabulary=vocabulary)
-    return Loaded(result.model, result.diagnostics, read_suppressions(raw))
+    return Loaded(result.model, result.diagnostics, read_suppressions(raw), read_properties(raw))
 
 
 def check(path: Path | str, options: CheckOptions | None = None, dialect: str | None = None) -> list[Diagnostic]:

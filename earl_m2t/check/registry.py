@@ -24,7 +24,7 @@ class RuleInfo:
     severity: Severity
     summary: str
     source: str
-    engine: str  # "ocl" | "python" | "reader"
+    engine: str  # "ocl" | "python" | "reader" | "spin" (found by `verify`)
     message: str  # message template of ocl rules
 
     @property

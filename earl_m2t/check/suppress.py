@@ -37,7 +37,7 @@ class Suppression:
     location: Location  # of the comment
 
 
-def _body(comment: Element) -> str:
+def comment_body(comment: Element) -> str:
     text = comment.get("body") or ""  # Cameo, Enterprise Architect
     text += "\n".join(b.text or "" for b in comment.iterchildren("body"))  # Papyrus
     return html.unescape(_TAG.sub("\n", text)) if "<" in text else text
@@ -48,7 +48,7 @@ def read_suppressions(raw: RawModel) -> tuple[Suppression, ...]:
     found: list[Suppression] = []
     for root in raw.model_roots:
         for comment in root.iter("ownedComment"):
-            directives = DIRECTIVE.findall(_body(comment))
+            directives = DIRECTIVE.findall(comment_body(comment))
             if not directives:
                 continue
             targets = [t for t in raw.refs(comment, "annotatedElement") if not isinstance(t, ExternalRef)]

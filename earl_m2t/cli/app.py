@@ -24,6 +24,7 @@ from earl_m2t.cli import rules as rules_command
 from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
 from earl_m2t.cli import trace as trace_command
+from earl_m2t.cli import verify as verify_command
 from earl_m2t.cli.read_options import read_policy
 from earl_m2t.deep_stack import call_with_deep_stack
 from earl_m2t.read.bounded import reading_with
@@ -52,6 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     diff_command.add_parser(commands)
     trace_command.add_parser(commands)
     import_command.add_parser(commands)
+    verify_command.add_parser(commands)
     return parser
 
 

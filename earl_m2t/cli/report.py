@@ -28,6 +28,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--png", action="store_true", help="also write a PNG of every diagram")
     parser.add_argument("--templates", type=Path, default=None, metavar="DIR",
                         help="a folder of report templates searched before the built-in ones")
+    parser.add_argument("--verify", action="store_true",
+                        help="also model-check the system with SPIN (as earl-m2t verify, with the model's LTL "
+                             "properties) and show counterexamples as sequence diagrams")
     add_config_options(parser)
     add_dialect_option(parser)
     add_profile_files_option(parser)
@@ -47,8 +50,22 @@ def run(args: argparse.Namespace) -> int:
     if isinstance(checked, int):
         return checked
     loaded, findings = checked.loaded, checked.findings
+    verification = None
+    if args.verify:
+        from earl_m2t.verify.ltl import LtlError
+        from earl_m2t.verify.run import VerifyOptions, verify_model
+        from earl_m2t.verify.spin import SpinUnavailable
+
+        try:
+            for prop in loaded.properties:
+                prop.promela(loaded.model)
+            verification = verify_model(loaded.model, VerifyOptions(properties=loaded.properties))
+        except (LtlError, SpinUnavailable) as error:
+            print(f"earl-m2t: report: {error}", file=sys.stderr)
+            return 2
     try:
-        files = render_report(loaded.model, findings, png=args.png, templates=args.templates)
+        files = render_report(loaded.model, findings, png=args.png, templates=args.templates,
+                              verification=verification)
         written = write_files(args.output, files)
     except GenError as error:
         print(shortened_words(f"earl-m2t: report: {error}"), file=sys.stderr)

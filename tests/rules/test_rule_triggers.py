@@ -1191,7 +1191,9 @@ def _line_of(path: Path, xmi_id: str) -> int:
 
 def test_every_catalogue_rule_has_a_variant() -> None:
     listed = tomllib.loads((ROOT / "metamodel" / "rules" / "catalogue.toml").read_text(encoding="utf-8"))
-    codes = set(listed["rules"]) | set(catalogue())
+    # the verification rules (engine spin) have their variants in test_verify_rules.py
+    codes = {code for code, row in listed["rules"].items() if row["engine"] != "spin"}
+    codes |= {code for code, info in catalogue().items() if info.engine != "spin"}
     covered = {_code(v) for v in VARIANTS} | {_code(v) for v in SYSML_VARIANTS}
     assert codes - covered == set(), "rules without a broken variant"
     assert covered - codes == set(), "variants of rules that are not in the catalogue"

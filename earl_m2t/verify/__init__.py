@@ -1,0 +1,1 @@
+"""System-level model checking: the lifted model as Promela, checked by SPIN (docs/verify.md)."""

@@ -1,0 +1,123 @@
+"""What one iteration of a subsystem in a state can decide, with predicates as free booleans.
+
+Every atom of the expanded conditions (a boolean field, a comparison, a ``newData`` term, a
+predicate written in user code) is a free boolean, constrained only by the model's exclusions.
+For a state, each assignment of the atoms its behaviour's tc/ec and its outgoing guards use
+gives an *outcome*: the behaviour goes on, or it ends and a transition (by priority, then model
+order) or none is taken. The distinct outcomes, each with the first assignment found for it,
+are all the Promela process needs: the data itself never enters the state space.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations, product
+
+from earl_m2t.analysis.expand import Expander, Formula
+from earl_m2t.model.elements import EarlModel, State, Subsystem, Transition
+from earl_m2t.predicate import And, Const, Expr, Not, Or, format_predicate
+
+MAX_ATOMS = 16  # 65536 assignments per state; above this every outcome is taken as possible
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    ended: bool  # tc or ec held
+    transition: Transition | None  # the transition taken, None when the state stays
+    witness: tuple[tuple[str, bool], ...]  # the predicates and terms written, and their values
+
+
+@dataclass(frozen=True, slots=True)
+class StateOutcomes:
+    state: State
+    outcomes: tuple[Outcome, ...]
+    never_ends_by_design: bool  # tc and ec are FALSE once expanded: a behaviour meant to run on
+    exact: bool  # False when the conditions had too many atoms or could not be analysed
+
+
+def state_outcomes(model: EarlModel, subsystem: Subsystem) -> tuple[StateOutcomes, ...]:
+    if subsystem.fsm is None:
+        return ()
+    expander = Expander(model, subsystem)
+    exclusions = _exclusions(expander, subsystem)
+    return tuple(_one_state(expander, subsystem, state, exclusions) for state in subsystem.fsm.states)
+
+
+def _exclusions(expander: Expander, subsystem: Subsystem) -> list[Expr]:
+    constraints: list[Expr] = []
+    for exclusion in subsystem.exclusions:
+        bodies = [expander.predicate(name) for name in exclusion.predicates]
+        known = [b for b in bodies if b is not None]
+        constraints.extend(Not(And((a, b))) for a, b in combinations(known, 2))
+    return constraints
+
+
+def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusions: list[Expr]) -> StateOutcomes:
+    fsm = subsystem.fsm
+    assert fsm is not None
+    bb = subsystem.behaviour(state.behaviours[0]) if len(state.behaviours) == 1 else None
+    tc = expander.condition(bb.tc if bb else None, missing=False)
+    ec = expander.condition(bb.ec if bb else None, missing=False)
+    outgoing = sorted(
+        (t for t in fsm.transitions if t.source == state.name and not t.source_foreign and not t.target_foreign),
+        key=lambda t: (-t.priority, t.order),
+    )
+    guards = [expander.condition(t.condition, missing=True) for t in outgoing]
+    formulas = [tc, ec, *guards]
+    by_design = tc is not None and ec is not None and not _atoms(tc.expr) and not _atoms(ec.expr) \
+        and not _value(tc.expr, {}) and not _value(ec.expr, {})
+    if any(f is None for f in formulas):
+        return StateOutcomes(state, _every_outcome(outgoing), by_design, exact=False)
+    known = [f for f in formulas if f is not None]
+    atoms = sorted({a for f in known for a in _atoms(f.expr)} | {a for c in exclusions for a in _atoms(c)},
+                   key=format_predicate)
+    relevant = [c for c in exclusions if _atoms(c) <= set(atoms)]
+    if len(atoms) > MAX_ATOMS:
+        return StateOutcomes(state, _every_outcome(outgoing), by_design, exact=False)
+    found: dict[tuple[bool, str], Outcome] = {}
+    terms = {t.label: t.formula for f in known for t in f.terms}
+    for values in product((False, True), repeat=len(atoms)):
+        env = dict(zip(atoms, values))
+        if not all(_value(c, env) for c in relevant):
+            continue
+        assert tc is not None and ec is not None
+        ended = _value(tc.expr, env) or _value(ec.expr, env)
+        taken = None
+        if ended:
+            taken = next((t for t, g in zip(outgoing, guards) if g is not None and _value(g.expr, env)), None)
+        key = (ended, taken.path if taken else "")
+        if key not in found:
+            witness = tuple((label, _value(expr, env)) for label, expr in terms.items())
+            found[key] = Outcome(ended, taken, witness)
+    ordered = sorted(found.values(), key=lambda o: (o.ended, o.transition.order if o.transition else -1))
+    return StateOutcomes(state, tuple(ordered), by_design, exact=True)
+
+
+def _every_outcome(outgoing: list[Transition]) -> tuple[Outcome, ...]:
+    return (Outcome(False, None, ()), Outcome(True, None, ()), *(Outcome(True, t, ()) for t in outgoing))
+
+
+def _atoms(expr: Expr) -> set[Expr]:
+    if isinstance(expr, Const):
+        return set()
+    if isinstance(expr, Not):
+        return _atoms(expr.operand)
+    if isinstance(expr, (And, Or)):
+        return set().union(*(_atoms(o) for o in expr.operands))
+    return {expr}
+
+
+def _value(expr: Expr, env: dict[Expr, bool]) -> bool:
+    if isinstance(expr, Const):
+        return expr.value
+    if isinstance(expr, Not):
+        return not _value(expr.operand, env)
+    if isinstance(expr, And):
+        return all(_value(o, env) for o in expr.operands)
+    if isinstance(expr, Or):
+        return any(_value(o, env) for o in expr.operands)
+    return env.get(expr, False)
+
+
+def describe(formula: Formula | None) -> str:
+    return "" if formula is None else format_predicate(formula.expr)

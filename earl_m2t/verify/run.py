@@ -1,0 +1,207 @@
+"""``verify``: translate, run SPIN within the bounds, and map what it found back to the model."""
+
+from __future__ import annotations
+
+import re
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from earl_m2t.model.elements import EarlModel, State, Subsystem
+from earl_m2t.model.location import Location
+from earl_m2t.verify import spin
+from earl_m2t.verify.ltl import LtlProperty
+from earl_m2t.verify.promela import OUTCOME_MARK, Specification, Step, translate
+
+MEMORY_MB = 1024  # pan's state storage (-DMEMLIM)
+UNREACHABLE, DEADLOCK, NEVER_ENDS, NO_WAY_OUT, LTL_VIOLATED = "V001", "V002", "V003", "V004", "V005"
+
+
+@dataclass(frozen=True, slots=True)
+class VerifyOptions:
+    depth: int = 100_000
+    timeout: float = 120.0
+    properties: tuple[LtlProperty, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class TraceStep:
+    number: int
+    subsystem: str
+    source: str
+    target: str
+    why: str  # the transition taken, or what the behaviour did
+    values: tuple[tuple[str, bool], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Finding:
+    code: str
+    message: str
+    element: str
+    location: Location
+    trace: tuple[TraceStep, ...] = ()
+
+
+@dataclass
+class VerifyResult:
+    findings: list[Finding] = field(default_factory=list)
+    proven: list[str] = field(default_factory=list)  # what holds, one line each
+    not_proven: list[str] = field(default_factory=list)  # what the bounds left open
+    states: int = 0
+    transitions: int = 0
+    depth: int = 0
+    processes: list[str] = field(default_factory=list)
+    left_out: list[str] = field(default_factory=list)
+
+
+def verify_model(model: EarlModel, options: VerifyOptions) -> VerifyResult:
+    started = time.monotonic()
+    result = VerifyResult()
+
+    def left() -> float:
+        return options.timeout - (time.monotonic() - started)
+
+    spec = translate(model)
+    result.processes = [p.subsystem.path for p in spec.processes]
+    result.left_out = [f"{sub.path}: {why}" for sub, why in spec.skipped]
+    with tempfile.TemporaryDirectory(prefix="earl-verify-") as name:
+        folder = Path(name)
+        try:
+            _reachability(spec, folder, options, left, result)
+            _deadlock(spec, folder, options, left, result)
+            for prop in options.properties:
+                _ltl(model, prop, folder, options, left, result)
+        except spin.OutOfTime as exc:
+            result.not_proven.append(f"the time limit of {options.timeout:g} s ran out in {exc}")
+    return result
+
+
+def _pan_flags(options: VerifyOptions) -> tuple[str, ...]:
+    return (f"-m{options.depth}", "-w22")
+
+
+def _account(run: spin.PanRun, result: VerifyResult) -> None:
+    result.states = max(result.states, run.states)
+    result.transitions = max(result.transitions, run.transitions)
+    result.depth = max(result.depth, run.depth)
+
+
+def _bounded(run: spin.PanRun, options: VerifyOptions) -> str:
+    if run.interrupted:
+        bound = f"the time limit of {options.timeout:g} s"
+    elif "out of memory" in run.output.lower():
+        bound = f"the memory limit of {MEMORY_MB} MB"
+    else:
+        bound = f"the depth limit {options.depth}"
+    return f"the search stopped at {bound} after {run.states} states, {run.transitions} transitions"
+
+
+def _reachability(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
+    binary = spin.build(folder, spec.text, "pan_reach", ("-DSAFETY", f"-DMEMLIM={MEMORY_MB}"), left())
+    run = spin.search(binary, ("-A", "-E", *_pan_flags(options)), left())
+    _account(run, result)
+    if not run.complete:
+        result.not_proven.append("reachability: " + _bounded(run, options))
+        return
+    taken = [step for step in spec.steps if step.line not in run.unreached]
+    for info in [*spec.processes, *spec.static]:
+        sub, fsm = info.subsystem, info.subsystem.fsm
+        assert fsm is not None
+        entered = {fsm.initial} | {s.outcome.transition.target for s in taken
+                                   if s.subsystem is sub and s.outcome.transition is not None}
+        for state, outcomes in zip(info.states, info.outcomes):
+            if state.name not in entered:
+                result.findings.append(Finding(
+                    UNREACHABLE, f"state {state.path} is never entered: no run of the system reaches it",
+                    state.path, state.location))
+                continue
+            bb = sub.behaviour(state.behaviours[0]) if len(state.behaviours) == 1 else None
+            ends = [o for o in outcomes.outcomes if o.ended]
+            if not ends and not outcomes.never_ends_by_design and outcomes.exact and bb is not None:
+                result.findings.append(Finding(
+                    NEVER_ENDS, f"behaviour {bb.path} of state {state.path} never ends: its tc and ec cannot "
+                    "become true with the model's exclusions, yet they are not written FALSE",
+                    bb.path, bb.tc.location if bb.tc is not None else bb.location))
+            elif ends and outcomes.exact and all(o.transition is None or o.transition.target == state.name
+                                                 for o in ends):
+                result.findings.append(Finding(
+                    NO_WAY_OUT, f"state {state.path} has no way out: its behaviour {bb.path if bb else ''} ends, "
+                    "but no transition to another state can be taken when it does",
+                    state.path, state.location))
+    result.proven.append(f"which FSM states are reachable, in {len(spec.processes)} subsystem process(es) "
+                         "(exhaustive search)")
+
+
+def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
+    if not spec.waits:
+        result.proven.append("no deadlock: no state waits for an obligatory input without a timeout")
+        return
+    binary = spin.build(folder, spec.text, "pan_safety", ("-DSAFETY", f"-DMEMLIM={MEMORY_MB}"), left())
+    run = spin.search(binary, (*_pan_flags(options), "-E"), left())
+    _account(run, result)
+    if run.errors:
+        trace = _trace(spec, spin.replay(folder, left()))
+        stuck = _waiting_at_end(spec, trace)
+        first = stuck[0][0] if stuck else spec.processes[0].subsystem
+        waiting = "; ".join(text for _, text in stuck)
+        result.findings.append(Finding(
+            DEADLOCK, f"the system can deadlock: {waiting}, and no subsystem can send any more",
+            first.path, first.location, trace))
+    elif not run.complete:
+        result.not_proven.append("deadlock freedom: " + _bounded(run, options))
+    else:
+        result.proven.append("no deadlock: no reachable state has a subsystem waiting for an input nobody sends")
+
+
+def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptions, left: Callable[[], float],
+         result: VerifyResult) -> None:
+    spec = translate(model, ((prop.name, prop.promela(model)),))
+    binary = spin.build(folder, spec.text, f"pan_{prop.name}", (f"-DMEMLIM={MEMORY_MB}",), left())
+    run = spin.search(binary, ("-a", "-N", prop.name, *_pan_flags(options)), left())
+    _account(run, result)
+    if run.errors:
+        trace = _trace(spec, spin.replay(folder, left()))
+        result.findings.append(Finding(LTL_VIOLATED, f"property {prop.text} does not hold", prop.title,
+                                       prop.location, trace))
+    elif not run.complete:
+        result.not_proven.append(f"{prop.text}: " + _bounded(run, options))
+    else:
+        result.proven.append(f"{prop.text} holds")
+
+
+def _trace(spec: Specification, replay: str) -> tuple[TraceStep, ...]:
+    by_key = {}
+    for generated in spec.steps:
+        info = next(i for i, p in enumerate(spec.processes) if p.subsystem is generated.subsystem)
+        state = spec.processes[info].states.index(generated.state)
+        outcome = spec.processes[info].outcomes[state].outcomes.index(generated.outcome)
+        by_key[(info, state, outcome)] = generated
+    steps: list[TraceStep] = []
+    for match in re.finditer(rf"{OUTCOME_MARK} (\d+) (\d+) (\d+)", replay):
+        step: Step = by_key[(int(match.group(1)), int(match.group(2)), int(match.group(3)))]
+        o = step.outcome
+        target = o.transition.target if o.transition else step.state.name
+        why = o.transition.name if o.transition else ("behaviour ended, no transition" if o.ended else "iteration")
+        steps.append(TraceStep(len(steps) + 1, step.subsystem.path, step.state.name, target, why, o.witness))
+    return tuple(steps)
+
+
+def _waiting_at_end(spec: Specification, trace: tuple[TraceStep, ...]) -> list[tuple[Subsystem, str]]:
+    from earl_m2t.verify.promela import waits_forever
+
+    current = {p.subsystem.path: p.subsystem.fsm.initial for p in spec.processes if p.subsystem.fsm}
+    for step in trace:
+        current[step.subsystem] = step.target
+    stuck = []
+    for info in spec.processes:
+        state = next((s for s in info.states if s.name == current.get(info.subsystem.path)), None)
+        if state is None:
+            continue
+        waits = waits_forever(info.subsystem, state)
+        if waits:
+            stuck.append((info.subsystem,
+                          f"{info.subsystem.path} in {state.name} waits for {', '.join(b.name for b in waits)}"))
+    return stuck

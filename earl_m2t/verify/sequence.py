@@ -1,0 +1,34 @@
+"""A counterexample as a Graphviz sequence diagram (transforms/report/templates/counterexample.dot.j2)."""
+
+from __future__ import annotations
+
+from earl_m2t.gen.engine import environment, load_target, render
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.verify.run import Finding
+
+TARGET = "diagrams"
+
+
+def counterexample_dot(model: EarlModel, finding: Finding) -> bytes:
+    env = environment(TARGET)
+    env.filters["h"] = _escape
+    involved = list(dict.fromkeys(step.subsystem for step in finding.trace))
+    lifelines = []
+    for index, path in enumerate(involved):
+        sub = model.subsystem(path)
+        initial = sub.fsm.initial if sub is not None and sub.fsm is not None else ""
+        lifelines.append({"id": f"l{index}", "name": path, "initial": initial or ""})
+    ids = {path: f"l{index}" for index, path in enumerate(involved)}
+    steps = [{
+        "number": step.number,
+        "lifeline": ids[step.subsystem],
+        "text": f"{step.source} → {step.target}" + (f" by {step.why}" if "," in step.why else f" ({step.why})"),
+        "predicates": ", ".join(f"{label}={'true' if value else 'false'}" for label, value in step.values),
+    } for step in finding.trace]
+    title = f"{finding.code} {finding.element}: {finding.message}"
+    template = str(load_target(TARGET)["verify"]["counterexample"])
+    return render(env, template, title=title, lifelines=lifelines, steps=steps)
+
+
+def _escape(text: object) -> str:
+    return str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
