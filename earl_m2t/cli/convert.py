@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import load
     from earl_m2t.convert import to_sysml
     from earl_m2t.diagnostics import ModelReadError
-    from earl_m2t.output import OutputError, write_files
+    from earl_m2t.cli.model_file import write_model_file
 
     try:
         loaded = load(args.model, args.dialect, args.profiles)
@@ -52,16 +52,4 @@ def run(args: argparse.Namespace) -> int:
         return 0
     target = Path(args.output)
     content = text.encode("utf-8")
-    if not args.force and target.is_file() and target.read_bytes() != content:
-        # a converted model is meant to be edited by hand afterwards: never replace it silently
-        print(f"earl-m2t: convert: {target} exists and differs from the conversion; nothing written "
-              "(--force to replace it)", file=sys.stderr)
-        return 1
-    try:
-        report = write_files(target.parent, {target.name: content})
-    except OutputError as exc:
-        print(f"earl-m2t: {exc}", file=sys.stderr)
-        return 2
-    for line in report.lines():
-        print(line)
-    return 0
+    return write_model_file("convert", target, content, args.force, "conversion")

@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.diagnostics import ModelReadError
     from earl_m2t.fabric import packages_to_model, read_package
     from earl_m2t.gen.names import cpp_identifier
-    from earl_m2t.output import OutputError, write_files
+    from earl_m2t.cli.model_file import write_model_file
 
     target = Path(args.output)
     if not is_sysml2(target):
@@ -54,15 +54,4 @@ def run(args: argparse.Namespace) -> int:
     for note in notes:
         print(f"earl-m2t: note: {note}", file=sys.stderr)
     content = to_sysml(model).encode("utf-8")
-    if not args.force and target.is_file() and target.read_bytes() != content:
-        print(f"earl-m2t: import fabric: {target} exists and differs from the import; nothing written "
-              "(--force to replace it)", file=sys.stderr)
-        return 1
-    try:
-        report = write_files(target.parent, {target.name: content})
-    except OutputError as exc:
-        print(f"earl-m2t: {exc}", file=sys.stderr)
-        return 2
-    for line in report.lines():
-        print(line)
-    return 0
+    return write_model_file("import fabric", target, content, args.force, "import")

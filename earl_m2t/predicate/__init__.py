@@ -33,7 +33,7 @@ from earl_m2t.predicate.transform import (
     join,
     substitute_index,
 )
-from earl_m2t.predicate.walk import evaluate, references, walk
+from earl_m2t.predicate.walk import evaluate, evaluate_atoms, references, walk
 
 __all__ = [
     "COMPARISON_OPERATORS",
@@ -53,6 +53,7 @@ __all__ = [
     "PredicateSyntaxError",
     "Replicated",
     "evaluate",
+    "evaluate_atoms",
     "expand_replicated",
     "format_predicate",
     "index_name",

@@ -52,6 +52,20 @@ def references(expr: Node) -> Iterator[PredicateRef | FieldRef]:
             yield node
 
 
+def evaluate_atoms(expr: Expr, atom_value: Callable[[Expr], bool]) -> bool:
+    """The truth value of the and/or/not structure of ``expr``, every other node an atom whose
+    value ``atom_value`` gives (a truth assignment, as in guard and outcome enumeration)."""
+    if isinstance(expr, Const):
+        return expr.value
+    if isinstance(expr, Not):
+        return not evaluate_atoms(expr.operand, atom_value)
+    if isinstance(expr, And):
+        return all(evaluate_atoms(o, atom_value) for o in expr.operands)
+    if isinstance(expr, Or):
+        return any(evaluate_atoms(o, atom_value) for o in expr.operands)
+    return atom_value(expr)
+
+
 def evaluate(
     expr: Expr,
     predicate_value: Callable[[PredicateRef], bool],

@@ -15,7 +15,7 @@ from itertools import combinations, product
 
 from earl_m2t.analysis.expand import Expander, Formula
 from earl_m2t.model.elements import EarlModel, State, Subsystem, Transition
-from earl_m2t.predicate import And, Const, Expr, Not, Or, format_predicate
+from earl_m2t.predicate import And, Const, Expr, Not, Or, evaluate_atoms, format_predicate
 
 MAX_ATOMS = 16  # 65536 assignments per state; above this every outcome is taken as possible
 
@@ -108,15 +108,8 @@ def _atoms(expr: Expr) -> set[Expr]:
 
 
 def _value(expr: Expr, env: dict[Expr, bool]) -> bool:
-    if isinstance(expr, Const):
-        return expr.value
-    if isinstance(expr, Not):
-        return not _value(expr.operand, env)
-    if isinstance(expr, And):
-        return all(_value(o, env) for o in expr.operands)
-    if isinstance(expr, Or):
-        return any(_value(o, env) for o in expr.operands)
-    return env.get(expr, False)
+    """The truth value of ``expr`` under the assignment ``env`` (an atom without a value is false)."""
+    return evaluate_atoms(expr, lambda atom: env.get(atom, False))
 
 
 def describe(formula: Formula | None) -> str:

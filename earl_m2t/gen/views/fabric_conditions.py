@@ -24,6 +24,7 @@ from earl_m2t.predicate import (
     Or,
     PredicateRef,
     Replicated,
+    evaluate_atoms,
     expand_replicated,
     format_predicate,
 )
@@ -105,15 +106,8 @@ def _atoms(expr: Expr) -> list[Expr]:
 
 
 def _value(expr: Expr, values: dict[Expr, bool]) -> bool:
-    if isinstance(expr, Const):
-        return expr.value
-    if isinstance(expr, Not):
-        return not _value(expr.operand, values)
-    if isinstance(expr, And):
-        return all(_value(o, values) for o in expr.operands)
-    if isinstance(expr, Or):
-        return any(_value(o, values) for o in expr.operands)
-    return values[expr]
+    """The truth value of ``expr`` under the assignment ``values`` (every atom must have a value)."""
+    return evaluate_atoms(expr, values.__getitem__)
 
 
 def _can_both_hold(a: Expr, b: Expr) -> bool:
