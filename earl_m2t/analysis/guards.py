@@ -34,6 +34,8 @@ from earl_m2t.analysis.expand import Expander, Formula, Term
 from earl_m2t.model.elements import BasicBehaviour, EarlModel, State, Subsystem, Transition
 from earl_m2t.predicate import And, Compare, Const, Expr, FieldRef, Not, Number, Or
 
+MAX_OVERLAPS_PER_STATE = 20  # B006 reports this many pairs of one state, then says it stopped
+
 
 @dataclass(frozen=True, slots=True)
 class Overlap:
@@ -116,7 +118,10 @@ class GuardAnalysis:
     def behaviour_of(self, state: State) -> BasicBehaviour | None:
         return self.subsystem.behaviour(state.behaviours[0]) if len(state.behaviours) == 1 else None
 
-    def overlaps(self, state: State) -> Iterator[Overlap]:
+    def overlaps(self, state: State, limit: int = MAX_OVERLAPS_PER_STATE) -> Iterator[Overlap]:
+        """The overlapping pairs leaving ``state``, at most ``limit`` of them: with n transitions
+        of one priority there are n(n-1)/2 pairs, so a state holding hundreds of them would
+        cost hundreds of thousands of solver calls and findings."""
         bb = self.behaviour_of(state)
         if bb is None:
             return
@@ -137,6 +142,9 @@ class GuardAnalysis:
             witness = self.witness(query, [*known, tc, ec])
             if witness is not None:
                 yield Overlap(state, first, second, witness)
+                limit -= 1
+                if limit == 0:
+                    return
 
     def gap(self, state: State) -> Gap | None:
         bb = self.behaviour_of(state)

@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from earl_m2t.analysis.guards import GuardAnalysis, describe  # noqa: E402
+from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis, describe  # noqa: E402
 from earl_m2t.model.elements import EarlModel, Subsystem  # noqa: E402
 from earl_m2t.predicate import Expr, FieldRef, PredicateRef, evaluate, parse_predicate  # noqa: E402
 from tests.support.fsm_builder import build  # noqa: E402
@@ -292,3 +292,15 @@ def test_agrees_with_brute_force(seed: int) -> None:
         for i in range(len(cube)):
             weaker = [w for a, w in zip(worlds, truth) if all(brute.truth(c, a) for c in cube[:i] + cube[i + 1:])]
             assert not all(query(w) for w in weaker), f"{text}: literal {literals[i]} can be dropped"
+
+
+def test_overlaps_of_one_state_stop_at_the_limit() -> None:
+    """A state with n transitions of one priority has n(n-1)/2 overlapping pairs: a hostile
+    model with hundreds of them must not cost hundreds of thousands of solver calls."""
+    states = {"idle": ("TRUE", None), **{f"s{k}": ("FALSE", None) for k in range(12)}}
+    model, sub = build(PREDICATES, states, [("idle", f"s{k}", None, 0) for k in range(12)])
+    assert sub.fsm is not None
+    idle = sub.fsm.states[0]
+    analysis = GuardAnalysis(model, sub)
+    assert len(list(analysis.overlaps(idle, limit=1000))) == 12 * 11 // 2
+    assert len(list(analysis.overlaps(idle))) == MAX_OVERLAPS_PER_STATE < 66

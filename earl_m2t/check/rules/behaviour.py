@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Iterator
 
-from earl_m2t.analysis.guards import GuardAnalysis
+from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis
 from earl_m2t.check.registry import Finding, rule
 from earl_m2t.model.conditions import ConditionResolver, conditions_of, parse_condition
 from earl_m2t.model.elements import EarlModel, State
@@ -103,11 +103,17 @@ def _guard_analyses(model: EarlModel) -> Iterator[tuple[GuardAnalysis, State]]:
 @rule("B006")
 def transitions_overlap(model: EarlModel) -> Iterator[Finding]:
     for analysis, state in _guard_analyses(model):
+        found_count = 0
         for found in analysis.overlaps(state):
+            found_count += 1
             first, second = found.first, found.second
             yield Finding(f"{first.name} and {second.name} can both fire when {found.witness} (both priority "
                           f"{first.priority}, leaving {state.path}: model order picks {first.name})",
                           first.location, first.path)
+        if found_count == MAX_OVERLAPS_PER_STATE:
+            yield Finding(f"{state.path}: the first {MAX_OVERLAPS_PER_STATE} overlapping pairs of transitions "
+                          "leaving this state are reported; any further pairs were not analysed",
+                          state.location, state.path)
 
 
 @rule("B007")
