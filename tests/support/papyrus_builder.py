@@ -1166,6 +1166,7 @@ class ModelBuilder:
         self._keys: dict[str, str] = {}
         self._ids: set[str] = set()
         self._applications: list[_Application] = []
+        self._application_index: dict[tuple[str, str, str], int] = {}  # (base id, prefix, name) → position
         self.model = Model(self, None, name)
 
     # -- building
@@ -1189,11 +1190,12 @@ class ModelBuilder:
             raise ValueError(f"unknown EARL stereotype {stereotype!r}")
         if not self.stereotypes:
             return
-        for i, app in enumerate(self._applications):
-            if app.base_id == element.id and app.prefix == "EARL" and app.name == stereotype:  # applied: add the tags
-                added = tuple((k, ("true" if v else "false") if isinstance(v, bool) else str(v)) for k, v in (tags or {}).items())
-                self._applications[i] = replace(app, tags=(*app.tags, *added))
-                return
+        i = self._application_index.get((element.id, "EARL", stereotype))
+        if i is not None:  # applied: add the tags
+            app = self._applications[i]
+            added = tuple((k, ("true" if v else "false") if isinstance(v, bool) else str(v)) for k, v in (tags or {}).items())
+            self._applications[i] = replace(app, tags=(*app.tags, *added))
+            return
         self._apply(element, "EARL", stereotype, f"base_{EARL_STEREOTYPES[stereotype]}", tags)
 
     # -- output
@@ -1247,6 +1249,7 @@ class ModelBuilder:
             (k, ("true" if v else "false") if isinstance(v, bool) else str(v)) for k, v in (tags or {}).items()
         )
         app_id = self._register(f"{element.key}\nstereotype\t{prefix}:{name}")
+        self._application_index.setdefault((element.id, prefix, name), len(self._applications))
         self._applications.append(_Application(prefix, name, app_id, base_attr, element.id, (*extra, *rendered)))
 
     def _nested_end(self, end: _ConnectorEnd) -> None:
