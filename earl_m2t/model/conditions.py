@@ -79,6 +79,7 @@ class ConditionResolver:
         for mem in subsystem.memory:
             for key in (mem.name, mem.template):
                 self._memory.setdefault(_stem(key), mem.datatype)
+        self._predicate_names = frozenset(p.name for p in subsystem.predicates)
         self._templates: dict[str, int] = {}
         for item in list(subsystem.buffers) + list(subsystem.memory):
             if item.index:
@@ -86,7 +87,7 @@ class ConditionResolver:
 
     def predicate(self, name: str) -> str | None:
         """The primitive predicate a reference names (``x``, ``x/pp``), or None."""
-        names = {p.name for p in self.subsystem.predicates}
+        names = self._predicate_names
         for candidate in (name, f"{name}/pp", _stem(name) + "/pp" if name.endswith("/pp") else ""):
             if candidate in names:
                 return candidate

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 import tomllib
 import unicodedata
-from functools import cache
+from functools import cache, lru_cache
 
 from earl_m2t.resources import metamodel_path
 
@@ -13,6 +13,16 @@ from earl_m2t.resources import metamodel_path
 @cache
 def _table() -> dict:
     return tomllib.loads(metamodel_path("tables", "identifiers.toml").read_text(encoding="utf-8"))
+
+
+@cache
+def _windows_reserved_names() -> frozenset[str]:
+    return frozenset(word.upper() for word in _table()["windows_reserved"])
+
+
+# Models repeat their names (every joint controller has its `idle`, `command/ib` …): the pure
+# name functions below remember recent answers instead of folding the same text again.
+_REMEMBERED = 1 << 16
 
 
 def identifier_stem(name: str) -> str:
@@ -27,6 +37,7 @@ def identifier(name: str) -> str:
     return f"{stem}_{abbr}" if slash else name
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def identifier_problem(name: str) -> str:
     """Why a name cannot become an identifier, or "" when it can."""
     table = _table()
@@ -45,6 +56,7 @@ def identifier_problem(name: str) -> str:
     return ""
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def length_problem(name: str) -> str:
     """Why a name is too long for the generated files (rule D005), or "" when it is not."""
     limit = int(_table()["max_length"])
@@ -54,9 +66,10 @@ def length_problem(name: str) -> str:
     return f"its generated identifier has {length} characters, more than the {limit} every target can use in file names"
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def windows_reserved(name: str) -> str:
     """The Windows device name (``COM1``, ``NUL`` …) a name's files would be called, or ""."""
-    reserved = {word.upper() for word in _table()["windows_reserved"]}
+    reserved = _windows_reserved_names()
     for candidate in (sanitised(name), re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(identifier_stem(name.strip()))),
                       field_name(name), message_name(name)):
         if candidate.upper() in reserved:
@@ -74,6 +87,7 @@ def collision_key(name: str) -> str:
     return sanitised(name).lower()
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def ascii_fold(text: str) -> str:
     """ASCII of a name: accents dropped (``ü`` → ``u``), other letters ``uXXXX``, the rest ``_``."""
     out = []
@@ -91,25 +105,33 @@ def ascii_fold(text: str) -> str:
 
 def words(name: str) -> list[str]:
     """The words of a name: ``jointPosSetpoint`` → joint Pos Setpoint, ``XMLParser`` → XML Parser."""
+    return list(_words(name))
+
+
+@lru_cache(maxsize=_REMEMBERED)
+def _words(name: str) -> tuple[str, ...]:
     text = ascii_fold(identifier(name.strip()))
     text = _LOWER_UPPER.sub(r"\1 \2", text)
     text = _ACRONYM_END.sub(r"\1 ", text)
-    return [w for w in re.split(r"[^A-Za-z0-9]+", text) if w]
+    return tuple(w for w in _NOT_ALNUM.split(text) if w)
 
 
 # Linear in the length of the name: every pattern looks at a fixed number of characters from
 # each position (``([A-Z]+)([A-Z][a-z])`` backtracked over long capital runs: quadratic).
 _LOWER_UPPER = re.compile(r"([a-z0-9])([A-Z])")
 _ACRONYM_END = re.compile(r"([A-Z])(?=[A-Z][a-z])")  # XMLParser → XML Parser
+_NOT_ALNUM = re.compile(r"[^A-Za-z0-9]+")
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def message_name(name: str) -> str:
     """``motor state`` → ``MotorState``; a leading digit gets ``M``, an empty name is ``Unnamed``."""
-    text = "".join(w[0].upper() + w[1:] for w in words(name)) or "Unnamed"
+    text = "".join(w[0].upper() + w[1:] for w in _words(name)) or "Unnamed"
     return "M" + text if text[0].isdigit() else text
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def field_name(name: str) -> str:
     """``jointPosSetpoint`` → ``joint_pos_setpoint``; a leading digit gets ``n``."""
-    text = "_".join(w.lower() for w in words(name)) or "unnamed"
+    text = "_".join(w.lower() for w in _words(name)) or "unnamed"
     return "n" + text if text[0].isdigit() else text

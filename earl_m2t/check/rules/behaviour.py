@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import Iterator
 
-from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis
+from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE
+from earl_m2t.analysis.shared_guards import SharedGuards
 from earl_m2t.check.registry import Finding, rule
 from earl_m2t.model.conditions import ConditionResolver, conditions_of, parse_condition
 from earl_m2t.model.elements import EarlModel, State
@@ -88,29 +89,25 @@ def predicate_syntax_error(model: EarlModel) -> Iterator[Finding]:
                 yield Finding(f"{condition.owner}: {problem.message}", problem.location, condition.owner)
 
 
-def _guard_analyses(model: EarlModel) -> Iterator[tuple[GuardAnalysis, State]]:
+def _guarded_states(model: EarlModel) -> Iterator[tuple[SharedGuards, int, State]]:
     for sub in model.definitions():
         if sub.fsm is None or not sub.fsm.states:
             continue
-        key = ("guard-analysis", sub.block_id)
-        analysis = model.derived.get(key)
-        if not isinstance(analysis, GuardAnalysis):
-            analysis = model.derived[key] = GuardAnalysis(model, sub)
-        for state in sub.fsm.states:
-            yield analysis, state
+        guards = SharedGuards(model, sub)
+        for position, state in enumerate(sub.fsm.states):
+            yield guards, position, state
 
 
 @rule("B006")
 def transitions_overlap(model: EarlModel) -> Iterator[Finding]:
-    for analysis, state in _guard_analyses(model):
-        found_count = 0
-        for found in analysis.overlaps(state):
-            found_count += 1
+    for guards, position, state in _guarded_states(model):
+        overlaps = guards.overlaps(position)
+        for found in overlaps:
             first, second = found.first, found.second
             yield Finding(f"{first.name} and {second.name} can both fire when {found.witness} (both priority "
                           f"{first.priority}, leaving {state.path}: model order picks {first.name})",
                           first.location, first.path)
-        if found_count == MAX_OVERLAPS_PER_STATE:
+        if len(overlaps) == MAX_OVERLAPS_PER_STATE:
             yield Finding(f"{state.path}: the first {MAX_OVERLAPS_PER_STATE} overlapping pairs of transitions "
                           "leaving this state are reported; any further pairs were not analysed",
                           state.location, state.path)
@@ -118,11 +115,11 @@ def transitions_overlap(model: EarlModel) -> Iterator[Finding]:
 
 @rule("B007")
 def termination_without_transition(model: EarlModel) -> Iterator[Finding]:
-    for analysis, state in _guard_analyses(model):
-        gap = analysis.gap(state)
+    for guards, position, state in _guarded_states(model):
+        gap = guards.gap(position)
         if gap is None:
             continue
-        bb = gap.behaviour.name
+        bb = state.behaviours[0]
         if gap.transitions:
             what = f"none of its {len(gap.transitions)} outgoing transitions is enabled"
         else:
