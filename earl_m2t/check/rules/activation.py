@@ -132,8 +132,11 @@ def _activated_by(sub: Subsystem, buffer: Buffer) -> bool:
 @rule("C009")
 def one_shot_into_latest_value(model: EarlModel) -> Iterator[Finding]:
     linked = {link.target: link for link in model.links if link.target}
+    tested_by_block: dict[str, dict[str, str]] = {}  # instances of one block test the same conditions
     for sub in model.subsystems:
-        tested = _one_shot_inputs(model, sub)
+        tested = tested_by_block.get(sub.block_id)
+        if tested is None:
+            tested = tested_by_block[sub.block_id] = _one_shot_inputs(model, sub)
         for buffer in sub.inputs:
             link = linked.get(buffer.path)
             where = tested.get(buffer.name) or tested.get(buffer.template)
