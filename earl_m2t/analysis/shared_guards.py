@@ -2,10 +2,10 @@
 
 Models repeat subsystems: every joint controller of an arm, every agent of a fleet. Two
 subsystems with the same states, transitions (priorities, relative order, condition texts),
-terminal and error conditions, primitive predicates, exclusions, buffers and memory get the
-same overlaps and gaps, witnesses included (they are written with local names). So the SAT
-work runs once per distinct content and the answers are mapped, by position, onto each
-subsystem that has it.
+terminal and error conditions, primitive predicates and exclusions, whose conditions name
+buffers and memory of the same shape, get the same overlaps and gaps, witnesses included
+(they are written with local names). So the SAT work runs once per distinct content and the
+answers are mapped, by position, onto each subsystem that has it.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis
+from earl_m2t.model.conditions import conditions_of
 from earl_m2t.model.elements import Condition, EarlModel, State, Subsystem, Transition
 
 Signature = tuple[object, ...]
@@ -48,7 +49,7 @@ class SharedGuards:
         self.subsystem = subsystem
         self._states = subsystem.fsm.states
         self._transitions = subsystem.fsm.transitions
-        key = ("guard-answers", signature(subsystem))
+        key = ("guard-answers", signature(model, subsystem))
         answers = model.derived.get(key)
         if not isinstance(answers, _Answers):
             answers = model.derived[key] = _Answers(GuardAnalysis(model, subsystem))
@@ -86,23 +87,57 @@ class SharedGuards:
         return self._states
 
 
-def signature(subsystem: Subsystem) -> Signature:
+def signature(model: EarlModel, subsystem: Subsystem) -> Signature:
     """Everything the guard analysis of a subsystem reads, with its own names and no locations.
 
-    Field kinds come from the model's data types, which all subsystems of one model share.
+    Buffers and memory count only when a condition could name them (their name or template
+    occurs in a condition's text), and by the shape of their data type: the field names and the
+    primitive kinds at their ends, which decide what a comparison or a boolean field means.
     """
     fsm = subsystem.fsm
     assert fsm is not None
     rank = {id(t): i for i, t in enumerate(sorted(fsm.transitions, key=lambda t: t.order))}
+    texts = "\n".join(c.text for c in conditions_of(subsystem))
+    shapes = model.derived.setdefault(("datatype-shapes",), {})
+    assert isinstance(shapes, dict)
+
+    def named(*names: str) -> bool:
+        return any(_stem(name) in texts for name in names)
+
     return (
         tuple((s.name, s.behaviours) for s in fsm.states),
         tuple((t.source, t.source_foreign, t.priority, rank[id(t)], _text(t.condition)) for t in fsm.transitions),
         tuple((b.name, _text(b.tc), _text(b.ec)) for b in subsystem.behaviours),
         tuple((p.name, _text(p.fun)) for p in subsystem.predicates),
         tuple(e.predicates for e in subsystem.exclusions),
-        tuple((b.name, b.template, b.direction, b.datatype, b.index) for b in subsystem.buffers),
-        tuple((m.name, m.template, m.datatype, m.index) for m in subsystem.memory),
+        tuple((b.name, b.template, b.direction, b.index, _shape(model, b.datatype, shapes, ()))
+              for b in subsystem.buffers if named(b.name, b.template)),
+        tuple((m.name, m.template, m.index, _shape(model, m.datatype, shapes, ()))
+              for m in subsystem.memory if named(m.name, m.template)),
     )
+
+
+def _shape(model: EarlModel, key: str, shapes: dict[str, object], visiting: tuple[str, ...]) -> object:
+    """A data type as the guard analysis sees it: primitive kinds, and fields by name."""
+    if key in shapes:
+        return shapes[key]
+    datatype = model.datatypes.get(key)
+    if key in visiting:
+        return ("cycle", key)
+    if datatype is None:
+        shape: object = ("unknown",)
+    elif datatype.kind == "struct":
+        shape = ("struct", tuple((f.name, f.lower, f.upper, _shape(model, f.type, shapes, (*visiting, key)))
+                                 for f in datatype.fields))
+    else:
+        shape = (datatype.kind, datatype.primitive)
+    if not visiting:
+        shapes[key] = shape
+    return shape
+
+
+def _stem(name: str) -> str:
+    return name.rpartition("/")[0] if "/" in name else name
 
 
 def _text(condition: Condition | None) -> str | None:

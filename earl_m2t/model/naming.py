@@ -77,11 +77,13 @@ def windows_reserved(name: str) -> str:
     return ""
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def sanitised(name: str) -> str:
     """The identifier a generator derives: non-identifier characters become '_'."""
     return re.sub(r"[^A-Za-z0-9_]", "_", identifier(name))
 
 
+@lru_cache(maxsize=_REMEMBERED)
 def collision_key(name: str) -> str:
     """Two names with the same key clash as identifiers or as file names on a case-insensitive disk."""
     return sanitised(name).lower()
