@@ -204,7 +204,9 @@ class _Generator:
         cs = self.inst.block(f"Agent{i}Control", "ControlSubsystem")
         ports = {}
         if parent is not None:
+            # a queue, as in the sample: a one-shot setpoint from the supervisor is never lost (C009)
             ports["command"] = cs.input_buffer("command/ib", types["command"])
+            ports["command"].stereotype("InputBuffer", {"receive": "queue", "queueSize": 8})
             ports["status"] = cs.output_buffer("status/ob", types["status"])
         for c in children:
             ctypes = self.agent_types[c]
