@@ -346,10 +346,16 @@ class RawModel:
         writes the languages first, Cameo the bodies). Without any language, the one the tool
         keeps elsewhere (:meth:`body_language`: Enterprise Architect's element Language) applies.
         """
-        bodies = [child.text or "" for child in el.iterchildren("body")]
+        bodies: list[str] = []
+        languages: list[str] = []
+        for child in el:  # one pass over the children for both features
+            tag = child.tag
+            if tag == "body":
+                bodies.append(child.text or "")
+            elif tag == "language":
+                languages.append(child.text or "")
         if not bodies and el.get("body") is not None:
             bodies = [el.get("body") or ""]
-        languages = [child.text or "" for child in el.iterchildren("language")]
         if not languages and el.get("language") is not None:
             languages = [el.get("language") or ""]
         if bodies and not languages:
