@@ -194,11 +194,22 @@ def _followed_hrefs(model: RawModel) -> list[Element]:
     """The elements of a model's content that carry an href into another resource."""
     skipped = not_followed()
     found = []
+    if model.external_hrefs is not None:  # collected by the index pass, in document order
+        tops = model.model_roots
+        for el in model.external_hrefs:
+            top = tops[0] if len(tops) == 1 else next(t for t in tops if _within(el, t))
+            if _is_followed(el, top, skipped):
+                found.append(el)
+        return found
     for top in model.model_roots:
         for el in _HREFS(top):
             if not (el.get("href") or "#").startswith("#") and _is_followed(el, top, skipped):
                 found.append(el)
     return found
+
+
+def _within(el: Element, top: Element) -> bool:
+    return el is top or any(ancestor is top for ancestor in el.iterancestors())
 
 
 def _is_followed(el: Element, top: Element, skipped: frozenset[str]) -> bool:

@@ -136,6 +136,9 @@ class RawModel:
     earl_uris: frozenset[str] = frozenset()  # the file's own EARL profile URIs (normalised)
     _extension: ExtensionIndex | None = field(default=None, init=False, repr=False, compare=False)
     resolver: Resolver | None = None  # the other files it references, once they are read
+    # elements of the model roots, outside tool extension blocks, whose href names another
+    # resource (collected by the index pass; None: not collected, look them up)
+    external_hrefs: list[Element] | None = None
 
     def __post_init__(self) -> None:
         self._id_attr = f"{{{self.xmi_ns}}}id"
@@ -443,21 +446,23 @@ def index_documents(documents: Sequence[tuple[Element, str]], dialect: str | Non
     diagnostics: list[Diagnostic] = []
     profile_applications: list[Element] = []
     ext_tags = frozenset(f"{{{uri}}}Extension" for uri in _spellings(table.xmi_uris))
+    external_hrefs: list[Element] = []
     for doc in docs:
         id_attr = f"{{{doc.xmi_ns}}}id"
         for top in doc.model_roots:
-            _index_subtree(top, id_attr, ext_tags, by_id, profile_applications, diagnostics, doc.file)
+            _index_subtree(top, id_attr, ext_tags, by_id, profile_applications, external_hrefs, diagnostics,
+                           doc.file)
     raw = RawModel(main.file, main.root, dialect, main.xmi_ns, main.uml_ns, by_id, {}, model_roots, diagnostics,
-                   table, tuple((d.root, d.file) for d in docs))
+                   table, tuple((d.root, d.file) for d in docs), external_hrefs=external_hrefs)
     raw.earl_uris = earl_profile_uris(raw, profile_applications)
-    families: dict[str, str] = {}
+    families: dict[str, tuple[str, str]] = {}  # tag → (namespace, family)
     for doc in docs:
         for top in doc.applications:
-            uri = _namespace_of(top)
-            family = families.get(uri)
-            if family is None:
-                family = families[uri] = table.family(uri, raw.earl_uris)
-            app = _stereotype_application(raw, top, uri, family)
+            known = families.get(top.tag)
+            if known is None:
+                uri = _namespace_of(top)
+                known = families[top.tag] = (uri, table.family(uri, raw.earl_uris))
+            app = _stereotype_application(raw, top, *known)
             if app is not None:
                 raw.stereotypes.setdefault(app.base_id, []).append(app)
     return raw
@@ -488,11 +493,20 @@ def _document(root: Element, file: str, table: DialectTable) -> _Document:
     model_roots: list[Element] = []
     applications: list[Element] = []
     top_level = [root] if root_uri == uml_ns else [c for c in root if isinstance(c.tag, str)]
+    kind_of_tag: dict[str, str] = {}  # a file has thousands of applications of a few stereotypes
     for top in top_level:
-        top_uri = _namespace_of(top)
-        if normalise_uri(top_uri) in table.xmi_uris:
-            continue  # xmi:Documentation, and every root-level xmi:Extension (tool data, repeated ids)
-        (model_roots if top_uri == uml_ns else applications).append(top)
+        kind = kind_of_tag.get(top.tag)
+        if kind is None:
+            top_uri = _namespace_of(top)
+            if normalise_uri(top_uri) in table.xmi_uris:
+                kind = "xmi"  # xmi:Documentation, and every root-level xmi:Extension (tool data, repeated ids)
+            else:
+                kind = "model" if top_uri == uml_ns else "application"
+            kind_of_tag[top.tag] = kind
+        if kind == "model":
+            model_roots.append(top)
+        elif kind == "application":
+            applications.append(top)
     for model in model_roots:  # Enterprise Architect "XMI 2.1" writes them inside the uml:Model
         for child in model:
             uri = _namespace_of(child)
@@ -516,9 +530,12 @@ def _index_subtree(
     ext_tags: frozenset[str],
     by_id: dict[str, Element],
     profile_applications: list[Element],
+    external_hrefs: list[Element],
     diagnostics: list[Diagnostic],
     file: str,
 ) -> None:
+    """One pass over a model root: the id index, the profile applications, and the elements
+    whose href leaves the file (references to other resources, followed later)."""
     iterator = top.iter()
     for el in iterator:
         tag = el.tag
@@ -527,6 +544,9 @@ def _index_subtree(
             for _ in el.iterdescendants():
                 next(iterator, None)
             continue
+        href = el.get("href")
+        if href and href[0] != "#":
+            external_hrefs.append(el)
         ref_id = el.get(id_attr)
         if ref_id is None:
             continue
@@ -580,7 +600,8 @@ def earl_profile_uris(raw: RawModel, profile_applications: list[Element]) -> fro
 
 def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -> StereotypeApplication | None:
     base_id = ""
-    name = etree.QName(el).localname
+    tag = el.tag
+    name = tag.rpartition("}")[2] if isinstance(tag, str) else ""
     tags: dict[str, str] = {}
     name_attributes = raw.table.stereotype_name_attributes
     for key, value in el.attrib.items():
@@ -590,7 +611,8 @@ def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -
             name = value.strip() or name
         elif not key.startswith("{"):
             tags[key] = value
-    if not base_id:
+    has_children = len(el) > 0
+    if not base_id and has_children:
         for child in el:
             if isinstance(child.tag, str) and child.tag.startswith("base_"):
                 base_id = next(
@@ -598,17 +620,18 @@ def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -
                 ) or raw.local_fragment(child.get("href") or "")
     if not base_id:
         return None
-    idref_attr = raw._idref_attr
-    for child in el:
-        tag = child.tag
-        if not isinstance(tag, str) or tag.startswith(("{", "base_")):
-            continue
-        href = child.get("href")
-        value = child.get(idref_attr) or (raw.local_fragment(href) or href.replace(" ", "%20") if href else "")
-        value = value or (child.text or "").strip()
-        if value:
-            previous = tags.get(tag)
-            tags[tag] = f"{previous} {value}" if previous else value
+    if has_children:
+        idref_attr = raw._idref_attr
+        for child in el:
+            child_tag = child.tag
+            if not isinstance(child_tag, str) or child_tag.startswith(("{", "base_")):
+                continue
+            href = child.get("href")
+            value = child.get(idref_attr) or (raw.local_fragment(href) or href.replace(" ", "%20") if href else "")
+            value = value or (child.text or "").strip()
+            if value:
+                previous = tags.get(child_tag)
+                tags[child_tag] = f"{previous} {value}" if previous else value
     return StereotypeApplication(uri, family, name, base_id, tags, el.sourceline or 0)
 
 
