@@ -294,20 +294,23 @@ class BehaviourLifter:
             return (), problems
         successors: dict[int, list[int]] = {id(n): [] for n in nodes}
         indegree: dict[int, int] = dict.fromkeys(successors, 0)
-        owner_of: dict[int, Element] = {}
-        kinds: dict[int, str] = {}
-        for node in nodes:
-            kinds[id(node)] = raw.uml_type(node)
-            for pin in node:  # one pass over the children instead of one per pin feature
-                if pin.tag in PIN_FEATURES:
-                    owner_of[id(pin)] = node
+        kinds: dict[int, str] = {id(node): raw.uml_type(node) for node in nodes}
+
+        def action_of(end: Element) -> Element:
+            """A flow that ends at a pin ends at the pin's action."""
+            if id(end) not in kinds and end.tag in PIN_FEATURES:
+                parent = end.getparent()
+                if parent is not None and id(parent) in kinds:
+                    return parent
+            return end
+
         for edge in raw.children(activity, "edge"):
             source, target = raw.ref(edge, "source"), raw.ref(edge, "target")
             if source is None or target is None or isinstance(source, ExternalRef) or isinstance(target, ExternalRef):
                 problems.append(ActivityProblem("a flow without a source or a target", raw.location(edge)))
                 continue
-            source = owner_of.get(id(source), source)
-            target = owner_of.get(id(target), target)
+            source = action_of(source)
+            target = action_of(target)
             if id(source) in kinds and id(target) in kinds:
                 successors[id(source)].append(id(target))
                 indegree[id(target)] += 1
