@@ -102,27 +102,30 @@ class ConditionResolver:
     def problems(self, expr: Expr, condition: Condition) -> Iterator[Problem]:
         loc = condition.location
         for node in walk(expr):
-            where = Location(loc.file, loc.line + max(node.line - 1, 0), node.column, loc.xmi_id)
-            if isinstance(node, Replicated):
-                if not self.replication_count(node):
-                    yield Problem("B005", "replicated form names no replicated buffer or memory "
-                                  "(expected names with K and a fixed multiplicity)", where)
-                continue
-            if isinstance(node, PredicateRef):
-                if self.predicate(node.name) is None and self._field_kind(FieldRef(node.name)) is None:
-                    yield Problem("B005", f"unknown primitive predicate '{node.name}'", where)
-            elif isinstance(node, NewData):
-                kind = self._storage.get(node.ref.head, ("", ""))[0] or self._storage.get(_template_head(node.ref.head), ("", ""))[0]
-                if kind != "ib":
-                    yield Problem("B005", f"newData() needs an input buffer, '{node.ref.head}' is not one", where)
-            elif isinstance(node, FieldRef):
-                message = self._check_field(node)
-                if message:
-                    yield Problem("B005", message, where)
-            elif isinstance(node, Compare):
-                for side in (node.left, node.right):
-                    if isinstance(side, FieldRef) and self._field_kind(side) not in (None, *NUMERIC):
-                        yield Problem("B005", f"'{_text(side)}' is not numeric and cannot be compared", where)
+            for message in self._node_problems(node):
+                where = Location(loc.file, loc.line + max(node.line - 1, 0), node.column, loc.xmi_id)
+                yield Problem("B005", message, where)
+
+    def _node_problems(self, node: Expr) -> Iterator[str]:
+        if isinstance(node, Replicated):
+            if not self.replication_count(node):
+                yield ("replicated form names no replicated buffer or memory "
+                       "(expected names with K and a fixed multiplicity)")
+        elif isinstance(node, PredicateRef):
+            if self.predicate(node.name) is None and self._field_kind(FieldRef(node.name)) is None:
+                yield f"unknown primitive predicate '{node.name}'"
+        elif isinstance(node, NewData):
+            kind = self._storage.get(node.ref.head, ("", ""))[0] or self._storage.get(_template_head(node.ref.head), ("", ""))[0]
+            if kind != "ib":
+                yield f"newData() needs an input buffer, '{node.ref.head}' is not one"
+        elif isinstance(node, FieldRef):
+            message = self._check_field(node)
+            if message:
+                yield message
+        elif isinstance(node, Compare):
+            for side in (node.left, node.right):
+                if isinstance(side, FieldRef) and self._field_kind(side) not in (None, *NUMERIC):
+                    yield f"'{_text(side)}' is not numeric and cannot be compared"
 
     def _check_field(self, ref: FieldRef) -> str:
         head = ref.head

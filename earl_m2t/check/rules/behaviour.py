@@ -93,7 +93,10 @@ def _guarded_states(model: EarlModel) -> Iterator[tuple[SharedGuards, int, State
     for sub in model.definitions():
         if sub.fsm is None or not sub.fsm.states:
             continue
-        guards = SharedGuards(model, sub)
+        key = ("shared-guards", sub.block_id)
+        guards = model.derived.get(key)
+        if not isinstance(guards, SharedGuards):  # B006 and B007 ask the same subsystem
+            guards = model.derived[key] = SharedGuards(model, sub)
         for position, state in enumerate(sub.fsm.states):
             yield guards, position, state
 
