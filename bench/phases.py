@@ -11,6 +11,7 @@ that count are run.py's whole-process ones; this shows how they split.
 
 from __future__ import annotations
 
+import gc
 import sys
 import time
 from pathlib import Path
@@ -47,6 +48,7 @@ def main(argv: list[str] | None = None) -> int:
         print("usage: python bench/phases.py MODEL", file=sys.stderr)
         return 0 if args and args[0] in ("-h", "--help") else 2
     path = Path(args[0])
+    gc.disable()  # as the command line runs (earl_m2t.cli.app.entry)
     clock = _Clock()
 
     import earl_m2t.cli.app  # noqa: F401  (what the command line imports)
