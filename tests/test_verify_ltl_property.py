@@ -94,3 +94,12 @@ def test_a_syntax_error_in_the_papyrus_constraint_is_one_line(tmp_path: Path,
     column = lines[line - 1].index("=> manip") + 1
     assert err.startswith(f"earl-m2t: verify: {path}:{line}:{column}: unexpected '=>"), err
     assert len(err.splitlines()) == 1
+
+
+def test_convert_keeps_the_property_as_ltl_metadata(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    converted = tmp_path / "converted.sysml"
+    assert main(["convert", str(SAMPLES["papyrus"]), "--to", "sysml", "-o", str(converted)]) == 0
+    capsys.readouterr()
+    assert f'metadata estopLatches : Ltl {{ formula = "{ESTOP}"; }}' in converted.read_text(encoding="utf-8")
+    code, result = _verify(converted, capsys)
+    assert code == 0 and f"{ESTOP} holds" in result["proven"]
