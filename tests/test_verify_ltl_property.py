@@ -103,3 +103,14 @@ def test_convert_keeps_the_property_as_ltl_metadata(tmp_path: Path, capsys: pyte
     assert f'metadata estopLatches : Ltl {{ formula = "{ESTOP}"; }}' in converted.read_text(encoding="utf-8")
     code, result = _verify(converted, capsys)
     assert code == 0 and f"{ESTOP} holds" in result["proven"]
+
+
+def test_a_constraint_without_a_formula_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    sample = SAMPLES["papyrus"].read_text(encoding="utf-8")
+    path = tmp_path / "empty.uml"
+    path.write_text(sample.replace(f"<body>{ESTOP}</body>", "<body></body>"), encoding="utf-8")
+    code = main(["verify", str(path)])
+    err = capsys.readouterr().err
+    line = next(i for i, text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if "<body></body>" in text)
+    assert code == 2
+    assert err == f"earl-m2t: verify: {path}:{line}:1: the property estopLatches has no formula\n"

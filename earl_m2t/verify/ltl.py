@@ -77,6 +77,8 @@ class LtlProperty:
             pos = op.end()
         if text.count("(") != text.count(")"):
             raise self._error(len(text), "unbalanced parentheses")
+        if not out:
+            raise self._error(0, f"the property {self.title} has no formula")
         return tuple(out)
 
     def observed(self, model: EarlModel) -> tuple[PredicateAtom, ...]:
