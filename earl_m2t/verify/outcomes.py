@@ -106,7 +106,8 @@ def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusion
 def _every_outcome(outgoing: list[Transition], watched: int) -> tuple[Outcome, ...]:
     """Every outcome, with every combination of the observed predicates' values."""
     decisions: list[tuple[bool, Transition | None]] = [(False, None), (True, None), *((True, t) for t in outgoing)]
-    return tuple(Outcome(ended, t, (), seen) for ended, t in decisions for seen in product((False, True), repeat=watched))
+    return tuple(Outcome(ended, t, (), seen)
+                 for ended, t in decisions for seen in product((False, True), repeat=watched))
 
 
 def _atoms(expr: Expr) -> set[Expr]:

@@ -13,7 +13,6 @@ then that nobody waits for an obligatory input.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-
 from typing import TYPE_CHECKING
 
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
@@ -206,8 +205,9 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
         for k, outcome in enumerate(so.outcomes):
             target = index.get(outcome.transition.target, i) if outcome.transition else i
             moves = target != i
-            records = [f"{w.variable} = {'true' if value else 'false'}" for w, value in zip(info.observed, outcome.observed)]
-            differs = [f"{w.variable} != {'true' if value else 'false'}" for w, value in zip(info.observed, outcome.observed)]
+            seen = [(w.variable, "true" if value else "false") for w, value in zip(info.observed, outcome.observed)]
+            records = [f"{variable} = {value}" for variable, value in seen]
+            differs = [f"{variable} != {value}" for variable, value in seen]
             if not moves and not changes and not differs:
                 continue
             either = " || ".join(c for c in (changes, *differs) if c)
