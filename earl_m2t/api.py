@@ -28,7 +28,7 @@ class Loaded:
     model: EarlModel
     diagnostics: tuple[Diagnostic, ...]
     suppressions: tuple[Suppression, ...] = ()  # the model's ``earl-m2t: ignore[…]`` comments
-    properties: tuple[LtlProperty, ...] = ()  # the model's ``earl-m2t: ltl NAME: …`` comments (verify)
+    properties: tuple[LtlProperty, ...] = ()  # the model's «LtlProperty» constraints and ``earl-m2t: ltl`` comments (verify)
 
 
 def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path | str] = ()) -> Loaded:

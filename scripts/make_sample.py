@@ -42,6 +42,7 @@ N_JOINTS = 6
 SAMPLE_DIR = ROOT / "samples" / "pick_and_place"
 SAMPLE = SAMPLE_DIR / "pick_and_place.uml"
 VARIANT_DIR = SAMPLE_DIR / "variants"
+ESTOP_LATCHES = "[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)"
 
 # Stereotypes of the EA variants, by EARL concept: (profile prefix, stereotype name); concepts
 # not listed keep their EARL stereotype. The authors' MDG names are those of
@@ -128,6 +129,7 @@ class Block(Protocol):
     def primitive_predicate(self, name: str, body: str) -> Behavior: ...
     def exclusion(self, name: str, predicates: Sequence[Any] = ..., body: str | None = ...) -> Any: ...
     def buffer_group(self, name: str, obligatory: Sequence[Property] = ..., optional: Sequence[Property] = ...) -> Any: ...
+    def ltl_property(self, name: str, formula: str) -> Any: ...
     def partial_transition_function(self, name: str, reads: Sequence[Any] = ..., writes: Sequence[Any] = ...,
                                     body: str = ...) -> Behavior: ...  # fmt: skip
 
@@ -525,6 +527,9 @@ def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
             kit.end_at(port(dst_cs, f"{message}/ib"), *dst_path),
             "InterAgentLink",
         )
+    # The property `earl-m2t verify` proves (docs/verify.md): once manip/a.cs is in its
+    # emergency stop, it stays there.
+    system.ltl_property("estopLatches", ESTOP_LATCHES)
     return mb.to_bytes()
 
 

@@ -40,6 +40,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     ),
     "Transition-function stages": ("stages.uml", "stages-conflict.uml"),
     "Activation: buffer groups, timeouts and receive modes": ("activation.uml",),
+    "Properties the whole system must keep (`earl-m2t verify`)": ("ltl-property.uml",),
     "4. Conditions: the predicate language": (
         "primitive-predicates.uml", "fsm.uml", "replication.uml", "predicate-errors.uml",
     ),
@@ -85,6 +86,8 @@ TABLE_ROWS: dict[str, str] = {
     "buffer group": "activation.uml",
     "state activation": "activation.uml",
     "receive mode": "activation.uml",
+    # section 3, properties for verify
+    "LTL property (earl-m2t)": "ltl-property.uml",
     # section 4
     "primitive predicate": "primitive-predicates.uml",
     "and, or, not": "fsm.uml",
@@ -740,3 +743,21 @@ def test_activation_example_lifts_its_group_state_activation_and_queue() -> None
         activation = state.activation
         assert (activation.group, activation.min_period, activation.first_timeout, activation.next_timeout) == (
             "drive", 0.001, 0.1, 0.01)
+
+
+def test_ltl_property_example_holds_two_properties_that_verify_proves(capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from earl_m2t.cli.app import main
+
+    loaded = load(EXAMPLES / "ltl-property.uml")
+    assert [(p.label, p.text) for p in loaded.properties] == [
+        ("stopLatches", "[] (manip/a.cs@stopped -> [] manip/a.cs@stopped)"),
+        ("stopIsHeeded", "[] (manip/a.cs.stop/pp -> manip/a.cs@stopped)"),
+    ]
+    assert main(["verify", str(EXAMPLES / "ltl-property.uml"), "--format", "json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert [line for line in result["proven"] if line.endswith(" holds")] == [
+        "[] (manip/a.cs@stopped -> [] manip/a.cs@stopped) holds",
+        "[] (manip/a.cs.stop/pp -> manip/a.cs@stopped) holds",
+    ]

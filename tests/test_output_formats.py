@@ -113,7 +113,7 @@ def test_sarif_of_the_broken_sample_is_valid_with_rules_and_locations(sarif_vali
         assert location["logicalLocations"][0]["fullyQualifiedName"]
         assert item["message"]["text"] and item["partialFingerprints"]["earlFinding/v1"]
     b005 = [r for r in results if r["ruleId"] == "B005"]
-    assert [r["locations"][0]["physicalLocation"]["region"]["startLine"] for r in b005] == [468, 476]
+    assert [r["locations"][0]["physicalLocation"]["region"]["startLine"] for r in b005] == [474, 482]
     assert b005[0]["locations"][0]["logicalLocations"][0]["fullyQualifiedName"] == "manip/a.cs.fsm.idle,jointMove/t"
     assert b005[0]["properties"]["conditionColumn"] == 1 and b005[0]["properties"]["xmiId"]
     assert len({r["partialFingerprints"]["earlFinding/v1"] for r in results}) == len(results)
@@ -225,7 +225,7 @@ def test_junit_has_one_testcase_per_rule_per_file(tmp_path: Path) -> None:
     b005 = failed[("broken.uml", "B005")]
     assert b005.message == "2 findings (2 error)"
     lines = b005.text.splitlines()
-    assert len(lines) == 2 and lines[0].startswith("broken.uml:468: B005 error: ")
+    assert len(lines) == 2 and lines[0].startswith("broken.uml:474: B005 error: ")
     assert LINK_NAME in failed[("broken.uml", "C008")].text
     assert xml.tests == 2 * len(codes) and xml.failures == 3 and xml.errors == 0
     # the counts in the file are the ones junitparser computes from the testcases
@@ -283,7 +283,7 @@ def test_github_commands_one_per_finding_with_escaping(tmp_path: Path) -> None:
     kinds = {(props["title"].split()[0], kind) for kind, props, _ in parsed}
     assert kinds == {("B005", "error"), ("R002", "warning"), ("C008", "notice")}
     assert lines[1] == (
-        "::error file=broken.uml,line=468,title=B005 predicate-unknown-reference::manip/a.cs.fsm.idle,jointMove/t: "
+        "::error file=broken.uml,line=474,title=B005 predicate-unknown-reference::manip/a.cs.fsm.idle,jointMove/t: "
         "unknown primitive predicate 'newJointPosition/pp' (column 1) [manip/a.cs.fsm.idle,jointMove/t]"
     )
     notice = next(line for line in lines if line.startswith("::notice"))

@@ -44,19 +44,28 @@ class Definition:
     lines: list[str] = field(default_factory=list)
 
 
-def model_view(model: EarlModel, profile: Profile | None = None) -> dict[str, Any]:
-    return _View(model, profile or load_profile()).build()
+def model_view(model: EarlModel, profile: Profile | None = None,
+               properties: tuple[tuple[str, str], ...] = ()) -> dict[str, Any]:
+    """``properties``: the model's LTL properties (name, formula), written as «LtlProperty»
+    metadata of the first System."""
+    return _View(model, profile or load_profile(), properties).build()
 
 
 class _View:
-    def __init__(self, model: EarlModel, profile: Profile) -> None:
+    def __init__(self, model: EarlModel, profile: Profile, properties: tuple[tuple[str, str], ...] = ()) -> None:
         self.model = model
         self.profile = profile
+        self.properties = properties
         self.blocks: dict[str, Definition] = {}
 
     def build(self) -> dict[str, Any]:
         for system in self.model.systems:
             self.system(system)
+        if self.model.systems and self.properties:
+            definition = self.blocks.get(self.model.systems[0].name)
+            if definition is not None:
+                definition.lines.extend(f"metadata {quoted(name)} : Ltl {{ formula = {_string_literal(formula)}; }}"
+                                        for name, formula in self.properties)
         return {
             "model": quoted(self.model.name or "Model"),
             "datatypes": self.datatype_lines(),
@@ -368,3 +377,8 @@ def _activation(activation: Activation) -> list[str]:
         if value is not None:
             tags.append(f"{tag} = {value!r};")
     return [f"@Activation {{ {' '.join(tags)} }}"] if tags else []
+
+
+def _string_literal(text: str) -> str:
+    """A SysML v2 string literal."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'

@@ -1,7 +1,8 @@
 """The behaviours a subsystem's ``part def`` owns: ``action def`` (a partial transition
 function, or a shared basic behaviour ``/bb``), ``calc def`` / ``constraint def`` (a primitive
-predicate), ``metadata … : Exclusive about …`` (exclusive predicates) and ``metadata name :
-Group { obligatory = …; optional = …; }`` (a buffer group)."""
+predicate), ``metadata … : Exclusive about …`` (exclusive predicates), ``metadata name :
+Group { obligatory = …; optional = …; }`` (a buffer group) and ``metadata name : Ltl { formula
+= "…"; }`` (an LTL property for ``earl-m2t verify``)."""
 
 from __future__ import annotations
 
@@ -16,6 +17,8 @@ from earl_m2t.sysml2.uml import ID, Block, UmlWriter
 BASIC_BEHAVIOUR = "BasicBehaviour"
 EXCLUSION = "Exclusion"
 BUFFER_GROUP = "BufferGroup"
+LTL_PROPERTY = "LtlProperty"
+LTL_LANGUAGE = "LTL"
 
 
 class BehaviourWriter:
@@ -85,3 +88,15 @@ class BehaviourWriter:
             return
         constraint = self.uml.child(block.element, "ownedRule", "Constraint", node, identification(node)[1] or "")
         self.uml.apply(constraint, BUFFER_GROUP, metadata_tags(node), location(node)[0])
+
+    def ltl_property(self, block: Block, node: Any) -> None:
+        """``metadata name : Ltl { formula = "…"; }``: a Constraint of the block stereotyped
+        «LtlProperty» whose specification is the formula (language LTL)."""
+        if self.scope.metadata_concept(node.type) != LTL_PROPERTY:
+            return
+        formula = metadata_tags(node).get("formula", "")
+        line = next((location(item)[0] for item in getattr(node.body, "items", None) or []
+                     if rule(item) == "MetadataBodyUsage" and simple_name(item.feature) == "formula"), 0)
+        constraint = self.uml.constraint(block.element, identification(node)[1] or "", (LTL_LANGUAGE, formula, line),
+                                         node)
+        self.uml.apply(constraint, LTL_PROPERTY, {}, location(node)[0])

@@ -19,10 +19,11 @@ PROFILE_PACKAGE = "EARL"
 # The metadata definitions of EARL::Model and the stereotype that each applies: SysML v2 types
 # metadata by metadata definitions, and the concepts are part, port and interface definitions.
 METADATA_CONCEPTS = {"Priority": "FsmTransition", "Exclusive": "Exclusion", "Memory": "InternalMemory",
-                     "Receive": "InputBuffer", "Activation": "FsmState", "Group": "BufferGroup"}
+                     "Receive": "InputBuffer", "Activation": "FsmState", "Group": "BufferGroup",
+                     "Ltl": "LtlProperty"}
 # Concepts whose metadata usage in a definition is an element of its own (a UML Constraint the
 # block owns), not a stereotype applied to the definition it is written in.
-OWNED_METADATA_CONCEPTS = frozenset({"Exclusion", "BufferGroup"})
+OWNED_METADATA_CONCEPTS = frozenset({"Exclusion", "BufferGroup", "LtlProperty"})
 
 
 @cache

@@ -1,19 +1,43 @@
-"""LTL properties over FSM states: ``agent/subsystem@state`` atoms with SPIN's operators."""
+"""LTL properties over FSM states and primitive predicates, with SPIN's operators.
+
+Two kinds of atom: ``agent/subsystem@state`` (the subsystem is in that state) and
+``agent/subsystem.name/pp`` (the primitive predicate ``name/pp`` of that subsystem held in its
+latest iteration; false before its first one). The ``/pp`` suffix is required, so a predicate
+and a state of the same name (the sample's ``emergencyStop``) are never confused.
+"""
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass
 
-from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.elements import EarlModel, Subsystem
 from earl_m2t.model.location import Location
 
-_ATOM = re.compile(r"([A-Za-z_][\w]*/[A-Za-z]+\.[A-Za-z_][\w]*(?:/[A-Za-z]+)?)@([A-Za-z_]\w*)")
+_SUBSYSTEM = r"[A-Za-z_]\w*/[A-Za-z]+\.[A-Za-z_]\w*(?:/[A-Za-z]+)?"
+_STATE_ATOM = re.compile(rf"({_SUBSYSTEM})@([A-Za-z_]\w*)")
+_PREDICATE_ATOM = re.compile(rf"({_SUBSYSTEM})\.([A-Za-z_]\w*/pp)\b")
 _ALLOWED = re.compile(r"\s*(\[\]|<>|!|&&|\|\||->|<->|\(|\)|U\b|V\b|W\b|true\b|false\b)")
+_HINT = "write agent/subsystem@state, agent/subsystem.name/pp, [] <> ! && || -> U and parentheses"
 
 
 class LtlError(Exception):
     """A property that does not parse or names no state: ``str()`` is ``file:line:col: message``."""
+
+
+@dataclass(frozen=True, slots=True)
+class StateAtom:
+    subsystem: str  # its path
+    state: str
+
+
+@dataclass(frozen=True, slots=True)
+class PredicateAtom:
+    subsystem: str  # its path
+    predicate: str  # the primitive predicate's name in the model
+
+
+Token = str | StateAtom | PredicateAtom
 
 
 @dataclass(frozen=True, slots=True)
@@ -27,39 +51,62 @@ class LtlProperty:
     def title(self) -> str:
         return self.label or self.name
 
-    def promela(self, model: EarlModel) -> str:
-        from earl_m2t.verify.promela import translate
-
-        spec = translate(model)
-        out: list[str] = []
+    def tokens(self, model: EarlModel) -> tuple[Token, ...]:
+        """The formula as operators and resolved atoms; raises :class:`LtlError`."""
+        out: list[Token] = []
         pos = 0
         text = self.text
         while pos < len(text):
-            atom = _ATOM.match(text, pos) if not text[pos].isspace() else None
-            if atom:
-                sub_path, state = atom.group(1), atom.group(2)
-                info = spec.state_variable(sub_path)
-                subsystem = model.subsystem(sub_path)
-                fsm = subsystem.fsm if subsystem is not None else None
-                if fsm is None or fsm.state(state) is None:
-                    raise self._error(pos, f"no state {state} of a subsystem {sub_path}")
-                number = [s.name for s in fsm.states].index(state)
-                # a subsystem left out never leaves its initial state
-                out.append(f"({info.variable} == {number})" if info else ("true" if fsm.initial == state else "false"))
-                pos = atom.end()
+            if text[pos].isspace():
+                pos += 1
+                continue
+            state = _STATE_ATOM.match(text, pos)
+            if state:
+                out.append(self._state(model, state.group(1), state.group(2), pos))
+                pos = state.end()
+                continue
+            predicate = _PREDICATE_ATOM.match(text, pos)
+            if predicate:
+                out.append(self._predicate(model, predicate.group(1), predicate.group(2), pos))
+                pos = predicate.end()
                 continue
             op = _ALLOWED.match(text, pos)
-            if not op or op.end() == pos:
-                if text[pos].isspace():
-                    pos += 1
-                    continue
-                raise self._error(pos, f"unexpected {text[pos:pos + 12]!r}: write agent/subsystem@state, "
-                                       "[] <> ! && || -> U and parentheses")
+            if not op:
+                raise self._error(pos, f"unexpected {text[pos:pos + 12]!r}: {_HINT}")
             out.append(op.group(1))
             pos = op.end()
         if text.count("(") != text.count(")"):
             raise self._error(len(text), "unbalanced parentheses")
-        return " ".join(out)
+        if not out:
+            raise self._error(0, f"the property {self.title} has no formula")
+        return tuple(out)
+
+    def observed(self, model: EarlModel) -> tuple[PredicateAtom, ...]:
+        """The predicates the formula reads, in the order written."""
+        return tuple(dict.fromkeys(t for t in self.tokens(model) if isinstance(t, PredicateAtom)))
+
+    def promela(self, model: EarlModel) -> str:
+        """The formula in Promela over the variables of the specification it is checked in."""
+        from earl_m2t.verify.promela import translate
+
+        return translate(model, (self,)).formulas[self.name]
+
+    def _state(self, model: EarlModel, path: str, state: str, pos: int) -> StateAtom:
+        subsystem = model.subsystem(path)
+        fsm = subsystem.fsm if subsystem is not None else None
+        if fsm is None or fsm.state(state) is None:
+            raise self._error(pos, f"no state {state} of a subsystem {path}")
+        return StateAtom(path, state)
+
+    def _predicate(self, model: EarlModel, path: str, written: str, pos: int) -> PredicateAtom:
+        subsystem = model.subsystem(path)
+        if subsystem is None:
+            raise self._error(pos, f"no subsystem {path} (for its predicate {written})")
+        name = predicate_name(subsystem, written)
+        if name is None:
+            known = ", ".join(p.name for p in subsystem.predicates) or "none"
+            raise self._error(pos, f"no primitive predicate {written} of the subsystem {path} (it has: {known})")
+        return PredicateAtom(path, name)
 
     def _error(self, offset: int, message: str) -> LtlError:
         loc = self.location
@@ -67,3 +114,10 @@ class LtlProperty:
         if loc.line == 0:
             return LtlError(f"{loc.file}: {self.title}: column {column}: {message}")
         return LtlError(f"{loc.file}:{loc.line}:{column}: {message}")
+
+
+def predicate_name(subsystem: Subsystem, written: str) -> str | None:
+    """The model's name of the primitive predicate written ``name/pp`` (models may leave out ``/pp``)."""
+    stem = written.removesuffix("/pp")
+    names = {p.name for p in subsystem.predicates}
+    return next((n for n in (written, stem) if n in names), None)

@@ -15,7 +15,7 @@ from itertools import combinations, product
 
 from earl_m2t.analysis.expand import Expander, Formula
 from earl_m2t.model.elements import EarlModel, State, Subsystem, Transition
-from earl_m2t.predicate import And, Const, Expr, Not, Or, evaluate_atoms, format_predicate
+from earl_m2t.predicate import And, Const, Expr, Not, Or, PredicateRef, evaluate_atoms, format_predicate, split_name
 
 MAX_ATOMS = 16  # 65536 assignments per state; above this every outcome is taken as possible
 
@@ -25,6 +25,7 @@ class Outcome:
     ended: bool  # tc or ec held
     transition: Transition | None  # the transition taken, None when the state stays
     witness: tuple[tuple[str, bool], ...]  # the predicates and terms written, and their values
+    observed: tuple[bool, ...] = ()  # the values of the predicates an LTL property reads
 
 
 @dataclass(frozen=True, slots=True)
@@ -35,12 +36,16 @@ class StateOutcomes:
     exact: bool  # False when the conditions had too many atoms or could not be analysed
 
 
-def state_outcomes(model: EarlModel, subsystem: Subsystem) -> tuple[StateOutcomes, ...]:
+def state_outcomes(model: EarlModel, subsystem: Subsystem,
+                   observed: tuple[str, ...] = ()) -> tuple[StateOutcomes, ...]:
+    """The outcomes of each state; with ``observed`` primitive predicates (read by LTL
+    properties), outcomes that differ only in those predicates' values are told apart."""
     if subsystem.fsm is None:
         return ()
     expander = Expander(model, subsystem)
     exclusions = _exclusions(expander, subsystem)
-    return tuple(_one_state(expander, subsystem, state, exclusions) for state in subsystem.fsm.states)
+    watched = tuple((split_name(name)[0], expander.predicate(name) or PredicateRef(name)) for name in observed)
+    return tuple(_one_state(expander, subsystem, state, exclusions, watched) for state in subsystem.fsm.states)
 
 
 def _exclusions(expander: Expander, subsystem: Subsystem) -> list[Expr]:
@@ -52,7 +57,8 @@ def _exclusions(expander: Expander, subsystem: Subsystem) -> list[Expr]:
     return constraints
 
 
-def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusions: list[Expr]) -> StateOutcomes:
+def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusions: list[Expr],
+               watched: tuple[tuple[str, Expr], ...]) -> StateOutcomes:
     fsm = subsystem.fsm
     assert fsm is not None
     bb = subsystem.behaviour(state.behaviours[0]) if len(state.behaviours) == 1 else None
@@ -67,15 +73,17 @@ def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusion
     by_design = tc is not None and ec is not None and not _atoms(tc.expr) and not _atoms(ec.expr) \
         and not _value(tc.expr, {}) and not _value(ec.expr, {})
     if any(f is None for f in formulas):
-        return StateOutcomes(state, _every_outcome(outgoing), by_design, exact=False)
+        return StateOutcomes(state, _every_outcome(outgoing, len(watched)), by_design, exact=False)
     known = [f for f in formulas if f is not None]
-    atoms = sorted({a for f in known for a in _atoms(f.expr)} | {a for c in exclusions for a in _atoms(c)},
-                   key=format_predicate)
+    atoms = sorted({a for f in known for a in _atoms(f.expr)} | {a for c in exclusions for a in _atoms(c)}
+                   | {a for _, expr in watched for a in _atoms(expr)}, key=format_predicate)
     relevant = [c for c in exclusions if _atoms(c) <= set(atoms)]
     if len(atoms) > MAX_ATOMS:
-        return StateOutcomes(state, _every_outcome(outgoing), by_design, exact=False)
-    found: dict[tuple[bool, str], Outcome] = {}
+        return StateOutcomes(state, _every_outcome(outgoing, len(watched)), by_design, exact=False)
+    found: dict[tuple[bool, str, tuple[bool, ...]], Outcome] = {}
     terms = {t.label: t.formula for f in known for t in f.terms}
+    for label, expr in watched:
+        terms.setdefault(label, expr)
     for values in product((False, True), repeat=len(atoms)):
         env = dict(zip(atoms, values))
         if not all(_value(c, env) for c in relevant):
@@ -85,16 +93,21 @@ def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusion
         taken = None
         if ended:
             taken = next((t for t, g in zip(outgoing, guards) if g is not None and _value(g.expr, env)), None)
-        key = (ended, taken.path if taken else "")
+        seen = tuple(_value(expr, env) for _, expr in watched)
+        key = (ended, taken.path if taken else "", seen)
         if key not in found:
             witness = tuple((label, _value(expr, env)) for label, expr in terms.items())
-            found[key] = Outcome(ended, taken, witness)
-    ordered = sorted(found.values(), key=lambda o: (o.ended, o.transition.order if o.transition else -1))
+            found[key] = Outcome(ended, taken, witness, seen)
+    ordered = sorted(found.values(),
+                     key=lambda o: (o.ended, o.transition.order if o.transition else -1, o.observed))
     return StateOutcomes(state, tuple(ordered), by_design, exact=True)
 
 
-def _every_outcome(outgoing: list[Transition]) -> tuple[Outcome, ...]:
-    return (Outcome(False, None, ()), Outcome(True, None, ()), *(Outcome(True, t, ()) for t in outgoing))
+def _every_outcome(outgoing: list[Transition], watched: int) -> tuple[Outcome, ...]:
+    """Every outcome, with every combination of the observed predicates' values."""
+    decisions: list[tuple[bool, Transition | None]] = [(False, None), (True, None), *((True, t) for t in outgoing)]
+    return tuple(Outcome(ended, t, (), seen)
+                 for ended, t in decisions for seen in product((False, True), repeat=watched))
 
 
 def _atoms(expr: Expr) -> set[Expr]:

@@ -13,9 +13,13 @@ then that nobody waits for an obligatory input.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
 from earl_m2t.verify.outcomes import Outcome, StateOutcomes, state_outcomes
+
+if TYPE_CHECKING:
+    from earl_m2t.verify.ltl import LtlProperty, Token
 
 OUTCOME_MARK = "EARL"  # the printf tag of a taken outcome, read back from SPIN's replay
 
@@ -37,12 +41,22 @@ class Step:
     line: int  # the line of its printf in the specification
 
 
+@dataclass(frozen=True, slots=True)
+class ObservedPredicate:
+    """A primitive predicate an LTL property reads: a global holding its latest value."""
+
+    subsystem: str  # path
+    predicate: str
+    variable: str
+
+
 @dataclass
 class ProcessInfo:
     subsystem: Subsystem
     variable: str  # the global holding its state number
     states: tuple[State, ...]
     outcomes: tuple[StateOutcomes, ...]
+    observed: tuple[ObservedPredicate, ...] = ()  # in the order of Outcome.observed
 
 
 @dataclass
@@ -55,6 +69,7 @@ class Specification:
     skipped: list[tuple[Subsystem, str]] = field(default_factory=list)  # left out, and why
     # left out because no iteration changes anything: they stay in their initial state
     static: list[ProcessInfo] = field(default_factory=list)
+    formulas: dict[str, str] = field(default_factory=dict)  # property name -> its Promela formula
 
     def state_variable(self, subsystem_path: str) -> ProcessInfo | None:
         return next((p for p in self.processes if p.subsystem.path == subsystem_path), None)
@@ -71,9 +86,20 @@ def waits_forever(subsystem: Subsystem, state: State) -> tuple[Buffer, ...]:
     return tuple(b for name in group.obligatory for b in subsystem.inputs if name in (b.name, b.template))
 
 
-def translate(model: EarlModel, ltl: tuple[tuple[str, str], ...] = ()) -> Specification:
-    """The Promela text of ``model``; ``ltl`` are (name, formula already in Promela) pairs."""
+def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = ()) -> Specification:
+    """The Promela text of ``model`` with the never claims of ``properties``; a primitive
+    predicate they read gets a global set by every iteration of its subsystem (only then, so
+    that models checked without such properties keep their state space)."""
+    from earl_m2t.verify.ltl import PredicateAtom
+
     spec = Specification("")
+    tokens = {prop.name: prop.tokens(model) for prop in properties}
+    watched: dict[tuple[str, str], ObservedPredicate] = {}
+    for written in tokens.values():
+        for token in written:
+            if isinstance(token, PredicateAtom) and (token.subsystem, token.predicate) not in watched:
+                watched[(token.subsystem, token.predicate)] = ObservedPredicate(
+                    token.subsystem, token.predicate, f"pp{len(watched)}")
     tracked: dict[str, TrackedBuffer] = {}
     for sub in model.subsystems:
         for state in sub.fsm.states if sub.fsm else ():
@@ -87,14 +113,17 @@ def translate(model: EarlModel, ltl: tuple[tuple[str, str], ...] = ()) -> Specif
     lines: list[str] = [f"/* {model.name}: earl-m2t verify, see docs/verify.md */"]
     for t in spec.tracked:
         lines.append(f"byte {t.variable} = 0; /* {t.buffer.path}, up to {t.capacity} */")
+    for seen in watched.values():
+        lines.append(f"bool {seen.variable} = false; /* {seen.subsystem} {seen.predicate} in its latest iteration */")
     bodies: list[list[str | tuple[str, Step]]] = []
     for sub in model.subsystems:
         fsm = sub.fsm
         if fsm is None or fsm.initial is None:
             spec.skipped.append((sub, "no FSM with one initial state"))
             continue
-        outcomes = state_outcomes(model, sub)
-        info = ProcessInfo(sub, f"st{len(spec.processes)}", fsm.states, outcomes)
+        observed = tuple(w for w in watched.values() if w.subsystem == sub.path)
+        outcomes = state_outcomes(model, sub, tuple(w.predicate for w in observed))
+        info = ProcessInfo(sub, f"st{len(spec.processes)}", fsm.states, outcomes, observed)
         body = _process_body(info, tracked, senders, len(spec.processes))
         if not any(isinstance(item, tuple) for item in body):
             spec.skipped.append((sub, "its iterations change nothing the properties observe"))
@@ -106,7 +135,7 @@ def translate(model: EarlModel, ltl: tuple[tuple[str, str], ...] = ()) -> Specif
         initial = next(i for i, s in enumerate(fsm.states) if s.name == fsm.initial)
         # written and read by its own process only: `local` lets SPIN's partial order reduction
         # use that; a never claim or the watchdog reads the states, so not with those
-        prefix = "" if ltl or spec.waits else "local "
+        prefix = "" if properties or spec.waits else "local "
         lines.append(f"{prefix}byte {info.variable} = {initial}; /* {sub.path}: {names} */")
     for info, body in zip(spec.processes, bodies):
         lines.append(f"active proctype subsystem{info.variable[2:]}() {{ /* {info.subsystem.path} */")
@@ -123,10 +152,31 @@ def translate(model: EarlModel, ltl: tuple[tuple[str, str], ...] = ()) -> Specif
         lines.append("}")
     if spec.waits:
         lines.extend(_watchdog(spec, tracked))
-    for name, formula in ltl:
-        lines.append(f"ltl {name} {{ {formula} }}")
+    for name, written in tokens.items():
+        spec.formulas[name] = _formula(spec, written, watched)
+        lines.append(f"ltl {name} {{ {spec.formulas[name]} }}")
     spec.text = "\n".join(lines) + "\n"
     return spec
+
+
+def _formula(spec: Specification, tokens: tuple[Token, ...],
+             watched: dict[tuple[str, str], ObservedPredicate]) -> str:
+    from earl_m2t.verify.ltl import PredicateAtom, StateAtom
+
+    out: list[str] = []
+    for token in tokens:
+        if isinstance(token, PredicateAtom):
+            out.append(watched[(token.subsystem, token.predicate)].variable)
+        elif isinstance(token, StateAtom):
+            info = spec.state_variable(token.subsystem)
+            if info is not None:
+                out.append(f"({info.variable} == {[s.name for s in info.states].index(token.state)})")
+            else:  # a subsystem left out never leaves its initial state
+                fsm = next(sub.fsm for sub, _ in spec.skipped if sub.path == token.subsystem)
+                out.append("true" if fsm is not None and fsm.initial == token.state else "false")
+        else:
+            out.append(token)
+    return " ".join(out)
 
 
 def _senders(model: EarlModel) -> dict[str, list[str]]:
@@ -155,10 +205,14 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
         for k, outcome in enumerate(so.outcomes):
             target = index.get(outcome.transition.target, i) if outcome.transition else i
             moves = target != i
-            if not moves and not changes:
+            seen = [(w.variable, "true" if value else "false") for w, value in zip(info.observed, outcome.observed)]
+            records = [f"{variable} = {value}" for variable, value in seen]
+            differs = [f"{variable} != {value}" for variable, value in seen]
+            if not moves and not changes and not differs:
                 continue
-            guard = f"{info.variable} == {i}{ready}" + ("" if moves else f" && ({changes})")
-            effect = "; ".join([*actions, f"{info.variable} = {target}"])
+            either = " || ".join(c for c in (changes, *differs) if c)
+            guard = f"{info.variable} == {i}{ready}" + ("" if moves else f" && ({either})")
+            effect = "; ".join([*actions, *records, f"{info.variable} = {target}"])
             label = outcome.transition.name if outcome.transition else ("ended, stays" if outcome.ended else "goes on")
             body.append(f"  :: atomic {{ {guard} -> {effect}; /* {state.name}: {label} */")
             body.append((f'       printf("{OUTCOME_MARK} {number} {i} {k}\\n") }}', Step(sub, state, outcome, 0)))

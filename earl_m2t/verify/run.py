@@ -158,7 +158,7 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: C
 
 def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptions, left: Callable[[], float],
          result: VerifyResult) -> None:
-    spec = translate(model, ((prop.name, prop.promela(model)),))
+    spec = translate(model, (prop,))
     binary = spin.build(folder, spec.text, f"pan_{prop.name}", (f"-DMEMLIM={MEMORY_MB}",), left())
     run = spin.search(binary, ("-a", "-N", prop.name, *_pan_flags(options)), left())
     _account(run, result)

@@ -467,6 +467,14 @@ class Block(Element):
             rule.stereotype("Exclusion")
         return rule
 
+    def ltl_property(self, name: str, formula: str) -> Constraint:
+        """An «LtlProperty» constraint: ``earl-m2t verify`` checks the LTL formula of its
+        specification (language LTL)."""
+        rule = Constraint(self.builder, self, name, formula, "LTL")
+        self.rules.append(rule)
+        rule.stereotype("LtlProperty")
+        return rule
+
     def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:
         """A «BufferGroup» constraint whose tags name the obligatory and optional Input Buffers."""
         rule = Constraint(self.builder, self, name, None)

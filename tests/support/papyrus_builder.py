@@ -134,6 +134,7 @@ EARL_STEREOTYPES: Mapping[str, str] = {
     "PrimitivePredicate": "Behavior",
     "Exclusion": "Constraint",
     "BufferGroup": "Constraint",
+    "LtlProperty": "Constraint",
 }
 
 # Blocks of the EARL *Model* package used by the generalisation route.
@@ -807,6 +808,14 @@ class Block(Element):
         self.rules.append(rule)
         if stereotype:
             rule.stereotype("Exclusion")
+        return rule
+
+    def ltl_property(self, name: str, formula: str) -> Constraint:
+        """An «LtlProperty» constraint: ``earl-m2t verify`` checks the LTL formula of its
+        specification (language LTL)."""
+        rule = Constraint(self.builder, self, name, formula, "LTL")
+        self.rules.append(rule)
+        rule.stereotype("LtlProperty")
         return rule
 
     def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:

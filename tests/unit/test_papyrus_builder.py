@@ -221,7 +221,7 @@ def test_stereotype_counts(tree: etree._ElementTree) -> None:
         "InterSubsystemLink": 8, "InterAgentLink": 4,
         "FSM": 7, "FsmState": 11, "FsmTransition": 10, "BasicBehaviour": 11,
         "PartialTransitionFunction": 14, "PrimitivePredicate": 6,
-        "Predicate": 32, "Exclusion": 1, "BufferGroup": 1,
+        "Predicate": 32, "Exclusion": 1, "BufferGroup": 1, "LtlProperty": 1,
     }  # fmt: skip
 
 
