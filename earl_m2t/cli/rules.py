@@ -6,8 +6,6 @@ import argparse
 import json
 import sys
 
-from earl_m2t.check.registry import catalogue, retired_codes
-
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("rules", help="list the rules, or explain one")
@@ -17,6 +15,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from earl_m2t.check.registry import catalogue, retired_codes
+
     rules = catalogue()
     if args.code:
         wanted = args.code.strip()
