@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 
 from earl_m2t.api import check_loaded, load
@@ -49,6 +48,8 @@ def _run_all(files: list[str], setup: Settings, dialect: str | None, jobs: int,
                 progress.show(index, file)
                 results[file] = check_file(file, setup.options_for(file), dialect, setup.read_policy(), profiles)
         else:
+            from concurrent.futures import ProcessPoolExecutor, as_completed  # only for --jobs N
+
             with ProcessPoolExecutor(max_workers=min(jobs, len(files))) as pool:
                 futures = {pool.submit(check_file, f, setup.options_for(f), dialect, setup.read_policy(),
                                        profiles): f for f in files}
