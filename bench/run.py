@@ -154,9 +154,9 @@ def measure_startup(runs: int, check_cmd: list[str]) -> tuple[Summary, Summary]:
 def report_startup(startup: Summary, help_run: Summary) -> None:
     print()
     print(f"== start-up, median of {help_run.runs} runs (interleaved) ==")
-    print(f"   {'':24s} {'wall (s)':>9s} {'min-max (s)':>15s} {'peak RSS (MB)':>14s}")
+    print(f"   {'':24s} {'wall (s)':>9s} {'min-max (s)':>15s}")
     for label, row in (("python -c pass", startup), ("earl-m2t --help", help_run)):
-        print(f"   {label:24s} {row.wall:9.3f} {row.wall_min:7.3f}-{row.wall_max:<7.3f} {row.rss:14.1f}")
+        print(f"   {label:24s} {row.wall:9.3f} {row.wall_min:7.3f}-{row.wall_max:.3f}")
     ok = "met" if help_run.wall <= TARGET_HELP_SECONDS else "NOT met"
     print(f"   earl-m2t --help: {help_run.wall:.3f} s, {help_run.wall / startup.wall:.1f}× python -c pass  "
           f"(target ≤ {TARGET_HELP_SECONDS} s: {ok})")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from earl_m2t.cli.dialect_option import add_dialect_option
@@ -22,6 +21,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import json
+
     from earl_m2t.api import load
     from earl_m2t.diagnostics import ModelReadError
     from earl_m2t.export import model_to_dict
