@@ -19,7 +19,7 @@ from earl_m2t.resources import metamodel_path
 Parsed = Expr | PredicateSyntaxError
 
 _ENTRY = "predicates"
-_MAX_TEXTS = 5_000  # about 1.6 MB, read back in about 15 ms
+_MAX_TEXTS = 2_000  # about 0.5 MB, read back in 10-20 ms; parsing them would take about 0.5 s
 
 
 class _Known:
