@@ -5,30 +5,36 @@ PY := $(VENV)/bin/python
 SAMPLE := samples/pick_and_place/pick_and_place.uml
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test setup wheel-check bench fuzz clean
+.PHONY: demo test setup bytecode wheel-check bench fuzz clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet -e '.[test]'
 	@touch $(STAMP)
 
-setup: $(STAMP)
+# The package's bytecode, written now: CI jobs often run with PYTHONDONTWRITEBYTECODE=1, and
+# without .pyc files every start would compile earl-m2t's modules again. (pip compiles a
+# wheel's modules when it installs them; an editable install leaves that to the first run.)
+bytecode: $(STAMP)
+	@$(PY) -m compileall -q earl_m2t
 
-demo: $(STAMP)
+setup: bytecode
+
+demo: bytecode
 	$(VENV)/bin/earl-m2t check $(SAMPLE)
 	$(VENV)/bin/earl-m2t show $(SAMPLE)
 	$(VENV)/bin/earl-m2t report $(SAMPLE) -o build/report
 
 # Orocos RTT and OCL for the orocos target's tests: found, or built once into a cache. A failed
 # build does not stop here: the Orocos tests then fail with the build log's tail.
-test: $(STAMP)
+test: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
 	$(PY) -m pytest -q
 
 wheel-check: $(STAMP)
 	$(PY) -m pytest -q tests/packaging
 
-bench: $(STAMP)
+bench: bytecode
 	$(PY) bench/run.py
 
 # The long fuzz campaign (tests/fuzz/runner.py): failing inputs go to tests/fuzz/regressions/

@@ -14,6 +14,9 @@ start to exit, and its peak resident set size (``ru_maxrss`` of that child, from
   ``no_network=True``, no DTD, comments and PIs removed, no ID table);
 * ``python -c pass``: the interpreter's own start-up, for context.
 
+Before the models, the start-up row: ``earl-m2t --help`` against ``python -c pass``, run by
+run interleaved, with the target for ``--help``.
+
 It prints the medians, the ratios check/parse for time and memory, how those ratios
 grow from the 10 MB to the 100 MB model, and the targets next to the figures. Models
 missing from ``bench/out/`` are generated first with ``bench/generate.py --target-mb``.
@@ -50,6 +53,8 @@ TARGET_TIME_RATIO = 2.5  # check / parse wall time, at 10 and 100 MB
 TARGET_MEMORY_RATIO = 1.5  # check / parse peak RSS, at 10 and 100 MB
 TARGET_GROWTH = 1.25  # (100 MB ratio) / (10 MB ratio)
 TARGET_SMALL_SECONDS = 0.25  # check of the 1 MB model
+TARGET_HELP_SECONDS = 0.06  # earl-m2t --help, wall, whole process
+STARTUP_RUNS = 11  # the least number of start-up runs: they are short and noisy
 
 
 @dataclass
@@ -134,6 +139,29 @@ def measure(size_mb: int, runs: int, check_cmd: list[str]) -> dict:
     }
 
 
+def measure_startup(runs: int, check_cmd: list[str]) -> tuple[Summary, Summary]:
+    """``python -c pass`` and ``earl-m2t --help``, interleaved run by run."""
+    bare_argv, help_argv = [sys.executable, "-c", "pass"], [*check_cmd, "--help"]
+    run_once(bare_argv)  # untimed: the interpreter's and the package's files into the page cache
+    run_once(help_argv)
+    bare, helps = [], []
+    for _ in range(runs):
+        bare.append(run_once(bare_argv))
+        helps.append(run_once(help_argv))
+    return summarise(bare), summarise(helps)
+
+
+def report_startup(startup: Summary, help_run: Summary) -> None:
+    print()
+    print(f"== start-up, median of {help_run.runs} runs (interleaved) ==")
+    print(f"   {'':24s} {'wall (s)':>9s} {'min-max (s)':>15s}")
+    for label, row in (("python -c pass", startup), ("earl-m2t --help", help_run)):
+        print(f"   {label:24s} {row.wall:9.3f} {row.wall_min:7.3f}-{row.wall_max:.3f}")
+    ok = "met" if help_run.wall <= TARGET_HELP_SECONDS else "NOT met"
+    print(f"   earl-m2t --help: {help_run.wall:.3f} s, {help_run.wall / startup.wall:.1f}× python -c pass  "
+          f"(target ≤ {TARGET_HELP_SECONDS} s: {ok})")
+
+
 def fmt_ratio(value: float, target: float | None) -> str:
     text = f"{value:5.2f}×"
     if target is None:
@@ -141,10 +169,12 @@ def fmt_ratio(value: float, target: float | None) -> str:
     return f"{text}  (target ≤ {target:g}×: {'met' if value <= target else 'NOT met'})"
 
 
-def report(results: list[dict], startup: Summary, runs: int) -> None:
+def report(results: list[dict], startup: Summary, runs: int, help_run: Summary | None = None) -> None:
     print()
     print(f"interpreter start-up (python -c pass): {startup.wall:.3f} s wall, {startup.rss:.1f} MB peak RSS "
           f"(median of {startup.runs})")
+    if help_run is not None:
+        report_startup(startup, help_run)
     for res in results:
         check: Summary = res["check"]
         parse: Summary = res["parse"]
@@ -185,14 +215,15 @@ def main(argv: list[str] | None = None) -> int:
     check_cmd = earl_m2t_command()
     shown = [os.path.relpath(c, ROOT) if os.path.isabs(c) else c for c in check_cmd]
     print(f"python {sys.version.split()[0]}; check command: {' '.join(shown)} check FILE")
-    startup = summarise([run_once([sys.executable, "-c", "pass"]) for _ in range(max(args.runs, 5))])
+    print(f"measuring start-up ({max(args.runs, STARTUP_RUNS)} runs) ...", flush=True)
+    startup, help_run = measure_startup(max(args.runs, STARTUP_RUNS), check_cmd)
     results = []
     for size in sizes:
         print(f"measuring the {size} MB model ({args.runs} runs) ...", flush=True)
         results.append(measure(size, args.runs, check_cmd))
-    report(results, startup, args.runs)
+    report(results, startup, args.runs, help_run)
     if args.json:
-        payload = {"startup": asdict(startup), "runs": args.runs,
+        payload = {"startup": asdict(startup), "help": asdict(help_run), "runs": args.runs,
                    "results": [{**r, "check": asdict(r["check"]), "parse": asdict(r["parse"])} for r in results]}
         args.json.write_text(json.dumps(payload, indent=2), encoding="utf-8")
     return 0

@@ -65,6 +65,7 @@ def check(path: Path | str, options: CheckOptions | None = None, dialect: str | 
 def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
     from earl_m2t.check.registry import catalogue
     from earl_m2t.check.suppress import apply_suppressions
+    from earl_m2t.predicate.known import save as save_parsed_predicates
 
     rules = catalogue()
     reader_findings = [
@@ -75,6 +76,7 @@ def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
     ]
     found = deduplicate(reader_findings + check_model(loaded.model, options))
     kept = apply_suppressions(found, loaded.suppressions, loaded.model, options)
+    save_parsed_predicates()
     return sorted((_readable(d) for d in kept), key=Diagnostic.sort_key)
 
 

@@ -1,5 +1,6 @@
 """An on-disk cache for what earl-m2t derives from its own data files (the parsed profile,
-the compiled rule invariants), so a command does not re-parse them on every start.
+the compiled rule invariants, the predicate texts parsed with the predicate grammar), so a
+command does not re-parse them on every start.
 
 Entries are keyed by a hash of the source file, the earl-m2t version, the Python version and
 the size and modification time of earl-m2t's own modules (so a changed loader in a working copy
@@ -15,8 +16,9 @@ import os
 import pickle
 import sys
 import tempfile
+from functools import cache
 from pathlib import Path
-from typing import Callable, TypeVar
+from typing import Any, Callable, TypeVar
 
 T = TypeVar("T")
 
@@ -43,33 +45,63 @@ def _code_stamp(folder: Path) -> str:
     return "|".join(sorted(stamps))
 
 
+@cache
+def _package_stamp() -> str:
+    """The stamp of earl-m2t's own modules, taken once per process (every entry's key has it)."""
+    return _code_stamp(Path(__file__).parent)
+
+
 def _key(source: Path) -> str:
     from earl_m2t import __version__
 
     digest = hashlib.sha256(source.read_bytes())
     digest.update(f"{__version__}|{sys.version_info[:3]}|{pickle.HIGHEST_PROTOCOL}".encode())
-    digest.update(_code_stamp(Path(__file__).parent).encode())
+    digest.update(_package_stamp().encode())
     return digest.hexdigest()[:24]
 
 
 def cached(name: str, source: Path, build: Callable[[], T]) -> T:
     """The value ``build()`` makes from ``source``, from the cache when it is up to date."""
+    found = read_cached(name, source)
+    if found is not None:
+        return found
+    value = build()
+    write_cached(name, source, value)
+    return value
+
+
+def read_cached(name: str, source: Path) -> Any:
+    """What :func:`write_cached` stored under ``name`` for this ``source``; None when there is
+    nothing up to date (or the cache is off or unreadable)."""
     directory = cache_dir()
     if directory is None:
-        return build()
+        return None
+    try:
+        with open(directory / f"{name}-{_key(source)}.pickle", "rb") as stream:
+            return pickle.load(stream)  # noqa: S301 - the user's own cache, written below
+    except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError, TypeError, RecursionError):
+        return None
+
+
+def write_cached(name: str, source: Path, value: object) -> None:
+    """Store ``value`` under ``name`` for this ``source``, atomically; failing to is not an error."""
+    directory = cache_dir()
+    if directory is None:
+        return
+    temporary = None
     try:
         entry = directory / f"{name}-{_key(source)}.pickle"
-        with open(entry, "rb") as stream:
-            return pickle.load(stream)  # noqa: S301 - the user's own cache, written below
-    except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError, TypeError):
-        pass
-    value = build()
-    try:
         directory.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=directory, prefix=f".{name}-", suffix=".tmp")
         with os.fdopen(handle, "wb") as stream:
             pickle.dump(value, stream, protocol=pickle.HIGHEST_PROTOCOL)
         os.replace(temporary, entry)
-    except (OSError, pickle.PicklingError, TypeError, AttributeError):
+        temporary = None
+    except (OSError, pickle.PicklingError, TypeError, AttributeError, RecursionError):
         pass
-    return value
+    finally:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass

@@ -12,8 +12,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 
-from pysat.solvers import Solver
-
 from earl_m2t.predicate import And, Const, Expr, Not, Or
 
 
@@ -85,6 +83,8 @@ class Cnf:
         if clause:
             clauses.append(list(clause))
         self.calls += 1
+        from pysat.solvers import Solver  # loaded only when a query reaches the solver
+
         with Solver(name="minisat22", bootstrap_with=clauses) as solver:
             if not solver.solve():
                 return None

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache
+from pathlib import Path
 from typing import Iterable, Iterator
 
 from earl_m2t.cache import cached
@@ -12,7 +13,7 @@ from earl_m2t.check.tables import LinkTable, using_permitted_links
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
-from earl_m2t.ocl import Invariant, OclEvaluationError, check as ocl_check, parse_invariants
+from earl_m2t.ocl import Invariant, OclEvaluationError, check as ocl_check
 from earl_m2t.resources import metamodel_path
 
 
@@ -34,7 +35,13 @@ class CheckOptions:
 @cache
 def builtin_invariants() -> tuple[Invariant, ...]:
     path = metamodel_path("rules", "invariants.ocl")
-    return cached("invariants", path, lambda: tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path))))
+    return cached("invariants", path, lambda: _parse_invariants(path))
+
+
+def _parse_invariants(path: Path) -> tuple[Invariant, ...]:
+    from earl_m2t.ocl.parser import parse_invariants  # the grammar only on a cache miss
+
+    return tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path)))
 
 
 def context_objects(model: EarlModel, context: str) -> Iterator[object]:

@@ -17,7 +17,7 @@ from string import Formatter
 
 from earl_m2t.check.registry import RuleInfo, catalogue
 from earl_m2t.diagnostics import Severity, SourceTextError
-from earl_m2t.ocl import Invariant, parse_invariants
+from earl_m2t.ocl import Invariant
 
 CONTEXTS = ("System", "Robot", "Agent", "Subsystem", "Buffer", "Memory", "State", "Link", "DataType")
 _KEY = re.compile(r"\s*--\s*(severity|message)\s*:\s*(.*?)\s*$")
@@ -45,6 +45,8 @@ def _metadata(lines: list[str], line: int, file: str) -> tuple[dict[str, str], d
 @cache
 def parse_user_rules(text: str, file: str) -> tuple[UserRule, ...]:
     """The rules of one file; raises :class:`SourceTextError` (``file:line:col: message``)."""
+    from earl_m2t.ocl.parser import parse_invariants  # the grammar only for a repository with rule files
+
     lines = text.splitlines()
     builtin = catalogue()
     builtin_names = {info.name for info in builtin.values()}

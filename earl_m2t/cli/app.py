@@ -25,10 +25,6 @@ from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
 from earl_m2t.cli import trace as trace_command
 from earl_m2t.cli import verify as verify_command
-from earl_m2t.cli.read_options import read_policy
-from earl_m2t.deep_stack import call_with_deep_stack
-from earl_m2t.read.bounded import reading_with
-from earl_m2t.shorten import shortened_words
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -80,6 +76,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not args.command:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
+    from earl_m2t.cli.read_options import read_policy
+    from earl_m2t.deep_stack import call_with_deep_stack
+    from earl_m2t.read.bounded import reading_with
+    from earl_m2t.shorten import shortened_words
+
     try:
         with reading_with(read_policy(args)):
             return call_with_deep_stack(lambda: int(args.run(args)))

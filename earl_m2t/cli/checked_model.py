@@ -8,7 +8,7 @@ import sys
 from dataclasses import dataclass
 
 from earl_m2t.api import Loaded, check_loaded, load
-from earl_m2t.cli.check import UsageError, options_for_model
+from earl_m2t.cli.check_settings import UsageError, options_for_model
 from earl_m2t.config import ConfigError
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, SourceTextError
 from earl_m2t.read.bounded import reading_with

@@ -6,14 +6,13 @@ without importing Jinja and the views."""
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass
 from functools import cache
+from typing import NamedTuple
 
 from earl_m2t import resources
 
 
-@dataclass(frozen=True)
-class TargetInfo:
+class TargetInfo(NamedTuple):
     name: str
     help: str
     doc: str

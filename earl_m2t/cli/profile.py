@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from earl_m2t.profile_export.formats import FORMATS
+from earl_m2t.cli.profile_formats import profile_formats
 
 _FORMAT_HELP = (
     "papyrus: EARL.profile.uml, an Eclipse UML2 profile, defined, for Papyrus; "
@@ -27,7 +27,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
         help="write the EARL profile for Papyrus, Cameo or Enterprise Architect",
         description="Write the EARL profile (from profiles/earl.sysml) as the profile file of a SysML tool.",
     )
-    parser.add_argument("--format", required=True, choices=FORMATS, help=_FORMAT_HELP)
+    parser.add_argument("--format", required=True, choices=profile_formats(), help=_FORMAT_HELP)
     parser.add_argument("-o", "--output", required=True, metavar="DIR",
                         help="folder to write the profile into (created when missing)")
     parser.set_defaults(run=run)

@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from earl_m2t.read.bounded import ReadPolicy
+if TYPE_CHECKING:
+    from earl_m2t.read.bounded import ReadPolicy
 
 
 def add_read_options(parser: argparse.ArgumentParser) -> None:
@@ -19,4 +21,6 @@ def add_read_options(parser: argparse.ArgumentParser) -> None:
 
 
 def read_policy(args: argparse.Namespace) -> ReadPolicy:
+    from earl_m2t.read.bounded import ReadPolicy
+
     return ReadPolicy(allow_outside=tuple(getattr(args, "allow_outside", None) or ()))

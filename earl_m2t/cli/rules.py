@@ -3,10 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-
-from earl_m2t.check.registry import catalogue, retired_codes
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -17,6 +14,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import json
+
+    from earl_m2t.check.registry import catalogue, retired_codes
+
     rules = catalogue()
     if args.code:
         wanted = args.code.strip()

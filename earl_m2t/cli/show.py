@@ -3,16 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
-from earl_m2t.api import load
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.read_options import add_read_options
-from earl_m2t.diagnostics import ModelReadError
-from earl_m2t.export import model_to_dict
-from earl_m2t.render.show_text import render_model
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -26,6 +21,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import json
+
+    from earl_m2t.api import load
+    from earl_m2t.diagnostics import ModelReadError
+    from earl_m2t.export import model_to_dict
+    from earl_m2t.render.show_text import render_model
+
     try:
         loaded = load(args.model, args.dialect, args.profiles)
     except ModelReadError as exc:

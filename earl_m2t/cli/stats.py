@@ -3,18 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.read_options import add_read_options
-from earl_m2t.diagnostics import ModelReadError
-from earl_m2t.lift import lift
-from earl_m2t.read.xmi import load_raw_model
-from earl_m2t.sysml2.files import is_sysml2
-from earl_m2t.stats import Stats, model_stats
+
+if TYPE_CHECKING:
+    from earl_m2t.stats import Stats
 
 FORMAT_VERSION = 1
 
@@ -43,6 +40,14 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import json
+
+    from earl_m2t.diagnostics import ModelReadError
+    from earl_m2t.lift import lift
+    from earl_m2t.read.xmi import load_raw_model
+    from earl_m2t.stats import model_stats
+    from earl_m2t.sysml2.files import is_sysml2
+
     path = Path(args.model)
     if is_sysml2(path):
         print(f"{path}: error: stats counts the elements of SysML v1 XMI; SysML v2 text is not counted "

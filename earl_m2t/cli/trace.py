@@ -10,7 +10,6 @@ looked for in the folders above each file. Exit codes: 0 every line traced (alwa
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import sys
 from typing import TYPE_CHECKING
@@ -46,6 +45,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _trace_locations(maps: SourceMaps, locations: list[str], fmt: str) -> int:
+    import json
+
     parsed = []
     for location in locations:
         match = _FILE_LINE.match(location)

@@ -19,10 +19,10 @@ from earl_m2t.predicate import (
     PredicateRef,
     PredicateSyntaxError,
     Replicated,
-    parse_predicate,
     substitute_index,
     walk,
 )
+from earl_m2t.predicate.known import parsed
 
 NUMERIC = frozenset({"integer", "real"})
 MEMORY_SUFFIXES = frozenset({"m", "mi", "mo"})
@@ -37,10 +37,7 @@ class Problem:
 
 @lru_cache(maxsize=65536)
 def _parse(text: str) -> Expr | PredicateSyntaxError:
-    try:
-        return parse_predicate(text)
-    except PredicateSyntaxError as exc:
-        return exc
+    return parsed(text)
 
 
 def parse_condition(condition: Condition) -> tuple[Expr | None, Problem | None]:

@@ -3,13 +3,18 @@ dataType containment."""
 
 from __future__ import annotations
 
-import networkx as nx
+from typing import TYPE_CHECKING
 
 from earl_m2t.model.elements import EarlModel, Fsm
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 
 def subsystem_graph(model: EarlModel) -> nx.DiGraph:
     """Subsystems as nodes (attributes ``kind``, ``agent``), one edge per linked pair, source → target."""
+    import networkx as nx
+
     graph: nx.DiGraph = nx.DiGraph()
     for sub in model.subsystems:
         graph.add_node(sub.path, kind=sub.kind, agent=sub.agent)
@@ -23,6 +28,8 @@ def subsystem_graph(model: EarlModel) -> nx.DiGraph:
 
 def agent_graph(model: EarlModel) -> nx.DiGraph:
     """Agents as nodes, inter-agent links as edges (the paper's system graph, Sec. 2.5)."""
+    import networkx as nx
+
     graph: nx.DiGraph = nx.DiGraph()
     for agent in model.agents:
         graph.add_node(agent.path)
@@ -37,6 +44,8 @@ def agent_graph(model: EarlModel) -> nx.DiGraph:
 
 def fsm_graph(fsm: Fsm) -> nx.DiGraph:
     """States as nodes, transitions between states of this FSM as edges."""
+    import networkx as nx
+
     graph: nx.DiGraph = nx.DiGraph()
     graph.add_nodes_from(state.name for state in fsm.states)
     for tr in fsm.transitions:
@@ -50,6 +59,8 @@ def unreachable_states(fsm: Fsm) -> list[str]:
     initial = fsm.initial
     if not initial:
         return []
+    import networkx as nx
+
     graph = fsm_graph(fsm)
     reached = nx.descendants(graph, initial) | {initial}
     return [state.name for state in fsm.states if state.name not in reached]
@@ -57,6 +68,8 @@ def unreachable_states(fsm: Fsm) -> list[str]:
 
 def datatype_graph(model: EarlModel) -> nx.DiGraph:
     """dataTypes as nodes, an edge for every field typed by another dataType."""
+    import networkx as nx
+
     graph: nx.DiGraph = nx.DiGraph()
     for key, datatype in model.datatypes.items():
         graph.add_node(key)

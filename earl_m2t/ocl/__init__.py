@@ -10,9 +10,27 @@ expression; :func:`evaluate` computes an expression with ``self`` bound to an ob
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from earl_m2t.ocl.errors import OclEvaluationError, OclSyntaxError
 from earl_m2t.ocl.evaluator import CompiledExpression, evaluate
-from earl_m2t.ocl.parser import Invariant, parse_expression, parse_invariants
+from earl_m2t.ocl.invariant import Invariant
+
+if TYPE_CHECKING:
+    from earl_m2t.ocl.parser import parse_expression, parse_invariants
+
+_PARSER_NAMES = ("parse_expression", "parse_invariants")
+
+
+def __getattr__(name: str) -> Any:
+    """The parsers on first use: the grammar (textX) is loaded only when text is parsed."""
+    if name not in _PARSER_NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from earl_m2t.ocl import parser
+
+    value = getattr(parser, name)
+    globals()[name] = value
+    return value
 
 
 def check(invariant: Invariant, obj: object) -> bool:

@@ -7,7 +7,6 @@ and compiled; no textX object or exception leaves this module.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
@@ -18,23 +17,12 @@ from textx.metamodel import TextXMetaModel
 from earl_m2t.ocl import ast
 from earl_m2t.ocl.errors import OclSyntaxError
 from earl_m2t.ocl.evaluator import CompiledExpression, compile_expression
+from earl_m2t.ocl.invariant import Invariant
 from earl_m2t.resources import metamodel_path
 
 # Marks a single expression for the grammar's root rule; followed by a newline, so line
 # numbers shift by exactly one and columns not at all.
 _EXPRESSION_MARKER = "__expression__\n"
-
-
-@dataclass(frozen=True)
-class Invariant:
-    """``context <context> inv <name>: <expression>``, with where it starts in its file."""
-
-    context: str
-    name: str
-    expression: CompiledExpression
-    source: str
-    line: int
-    column: int
 
 
 @cache

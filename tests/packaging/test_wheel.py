@@ -57,3 +57,18 @@ def test_the_installed_wheel_finds_its_data_inside_the_package(installed_wheel: 
     assert (Path(profiles) / "earl.sysml").is_file()
     rules = _run(installed_wheel, "rules", "B005", cwd=tmp_path)
     assert rules.returncode == 0 and "B005" in rules.stdout
+
+
+def test_the_installed_wheel_carries_the_bytecode_of_every_module(installed_wheel: Path, tmp_path: Path) -> None:
+    """pip compiles the modules as it installs the wheel, so that a CI job running with
+    PYTHONDONTWRITEBYTECODE=1 does not compile them again on every start."""
+    python = installed_wheel / "bin" / "python"
+    probe = ("import importlib.util, os, pathlib, earl_m2t; "
+             "root = pathlib.Path(earl_m2t.__file__).parent; "
+             "modules = sorted(root.rglob('*.py')); "
+             "print(len(modules)); "
+             "print(*[m.relative_to(root) for m in modules if not os.path.isfile(importlib.util.cache_from_source(str(m)))])")
+    result = subprocess.run([str(python), "-c", probe], cwd=tmp_path, capture_output=True, text=True, check=True)
+    count, missing = result.stdout.split("\n", 1)
+    assert int(count) > 100
+    assert missing.strip() == ""

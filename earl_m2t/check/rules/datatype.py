@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from typing import Callable, Iterator
 
-import networkx as nx
-
 from earl_m2t.check.registry import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, Memory, PartialFunction, PrimitivePredicate
 from earl_m2t.model.graph import datatype_graph
@@ -35,6 +33,8 @@ def unresolved_type(model: EarlModel) -> Iterator[Finding]:
 
 @rule("D002")
 def recursive_datatype(model: EarlModel) -> Iterator[Finding]:
+    import networkx as nx
+
     graph = datatype_graph(model)
     for cycle in sorted(nx.simple_cycles(graph), key=lambda c: sorted(c)):
         start = min(cycle)
