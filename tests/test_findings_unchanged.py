@@ -43,7 +43,8 @@ def label(path: Path) -> str:
 
 def without_checkout(text: str) -> str:
     """Paths in messages as :func:`label` writes them, so that any checkout compares equal."""
-    return text.replace(str(ROOT) + "/", "").replace(str(ROOT.parent) + "/", "")
+    text = text.replace(str(ROOT) + "/", "").replace(str(ROOT.parent) + "/", "")
+    return text.replace(f"repository ({ROOT.name})", "repository (CHECKOUT)")
 
 
 def findings_of(path: Path) -> list[str]:
