@@ -49,7 +49,7 @@ PARSE_SCRIPT = (
     "tree = etree.parse(sys.argv[1], parser)\n"
 )
 
-TARGET_TIME_RATIO = 2.5  # check / parse wall time, at 10 and 100 MB
+TARGET_TIME_RATIO = 2.0  # check / parse wall time, at 10 and 100 MB
 TARGET_MEMORY_RATIO = 1.5  # check / parse peak RSS, at 10 and 100 MB
 TARGET_GROWTH = 1.25  # (100 MB ratio) / (10 MB ratio)
 TARGET_SMALL_SECONDS = 0.25  # check of the 1 MB model
