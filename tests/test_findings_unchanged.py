@@ -43,7 +43,8 @@ def label(path: Path) -> str:
 
 def without_checkout(text: str) -> str:
     """Paths in messages as :func:`label` writes them, so that any checkout compares equal."""
-    text = text.replace(str(ROOT) + "/", "").replace(str(ROOT.parent) + "/", "")
+    text = text.replace(str(ROOT) + "/", "").replace(str(SHARED.resolve()), "shared")  # ../shared may be a link
+    text = text.replace(str(ROOT.parent) + "/", "")
     return text.replace(f"repository ({ROOT.name})", "repository (CHECKOUT)")
 
 
