@@ -458,11 +458,11 @@ def index_documents(documents: Sequence[tuple[Element, str]], dialect: str | Non
     families: dict[str, tuple[str, str]] = {}  # tag → (namespace, family)
     for doc in docs:
         for top in doc.applications:
-            known = families.get(top.tag)
-            if known is None:
+            uri_and_family = families.get(top.tag)
+            if uri_and_family is None:
                 uri = _namespace_of(top)
-                known = families[top.tag] = (uri, table.family(uri, raw.earl_uris))
-            app = _stereotype_application(raw, top, *known)
+                uri_and_family = families[top.tag] = (uri, table.family(uri, raw.earl_uris))
+            app = _stereotype_application(raw, top, *uri_and_family)
             if app is not None:
                 raw.stereotypes.setdefault(app.base_id, []).append(app)
     return raw
