@@ -16,6 +16,7 @@ from earl_m2t.predicate import (
     Expr,
     FieldRef,
     NewData,
+    Number,
     PredicateRef,
     PredicateSyntaxError,
     Replicated,
@@ -103,7 +104,7 @@ class ConditionResolver:
                 where = Location(loc.file, loc.line + max(node.line - 1, 0), node.column, loc.xmi_id)
                 yield Problem("B005", message, where)
 
-    def _node_problems(self, node: Expr) -> Iterator[str]:
+    def _node_problems(self, node: Expr | Number) -> Iterator[str]:
         if isinstance(node, Replicated):
             if not self.replication_count(node):
                 yield ("replicated form names no replicated buffer or memory "
