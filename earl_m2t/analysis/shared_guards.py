@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis
 from earl_m2t.model.conditions import conditions_of
-from earl_m2t.model.elements import Condition, EarlModel, State, Subsystem, Transition
+from earl_m2t.model.elements import Condition, EarlModel, Subsystem, Transition
 
 Signature = tuple[object, ...]
 
@@ -47,7 +47,6 @@ class SharedGuards:
     def __init__(self, model: EarlModel, subsystem: Subsystem) -> None:
         assert subsystem.fsm is not None
         self.subsystem = subsystem
-        self._states = subsystem.fsm.states
         self._transitions = subsystem.fsm.transitions
         key = ("guard-answers", signature(model, subsystem))
         answers = model.derived.get(key)
@@ -82,9 +81,6 @@ class SharedGuards:
         if answer is None:
             return None
         return StateGap(tuple(self._transitions[i] for i in answer[0]), answer[1])
-
-    def states(self) -> tuple[State, ...]:
-        return self._states
 
 
 def signature(model: EarlModel, subsystem: Subsystem) -> Signature:
