@@ -42,8 +42,6 @@ from earl_m2t.read.libraries import classify
 from earl_m2t.read.xmi import Element, RawModel, read_raw_model
 from earl_m2t.resources import metamodel_path
 
-_HREFS = etree.XPath("descendant-or-self::*[@href]")
-
 
 @cache
 def not_followed() -> frozenset[str]:
@@ -193,23 +191,7 @@ def follow_references(raw: RawModel, path: Path, dialect: str | None = None) -> 
 def _followed_hrefs(model: RawModel) -> list[Element]:
     """The elements of a model's content that carry an href into another resource."""
     skipped = not_followed()
-    found = []
-    if model.external_hrefs is not None:  # collected by the index pass, in document order
-        tops = model.model_roots
-        for el in model.external_hrefs:
-            top = tops[0] if len(tops) == 1 else next(t for t in tops if _within(el, t))
-            if _is_followed(el, top, skipped):
-                found.append(el)
-        return found
-    for top in model.model_roots:
-        for el in _HREFS(top):
-            if not (el.get("href") or "#").startswith("#") and _is_followed(el, top, skipped):
-                found.append(el)
-    return found
-
-
-def _within(el: Element, top: Element) -> bool:
-    return el is top or any(ancestor is top for ancestor in el.iterancestors())
+    return [el for top, el in model.external_hrefs if _is_followed(el, top, skipped)]
 
 
 def _is_followed(el: Element, top: Element, skipped: frozenset[str]) -> bool:

@@ -136,9 +136,9 @@ class RawModel:
     earl_uris: frozenset[str] = frozenset()  # the file's own EARL profile URIs (normalised)
     _extension: ExtensionIndex | None = field(default=None, init=False, repr=False, compare=False)
     resolver: Resolver | None = None  # the other files it references, once they are read
-    # elements of the model roots, outside tool extension blocks, whose href names another
-    # resource (collected by the index pass; None: not collected, look them up)
-    external_hrefs: list[Element] | None = None
+    # (model root, element) for each element outside tool extension blocks whose href names
+    # another resource, in document order: collected by the index pass
+    external_hrefs: list[tuple[Element, Element]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self._id_attr = f"{{{self.xmi_ns}}}id"
@@ -446,7 +446,7 @@ def index_documents(documents: Sequence[tuple[Element, str]], dialect: str | Non
     diagnostics: list[Diagnostic] = []
     profile_applications: list[Element] = []
     ext_tags = frozenset(f"{{{uri}}}Extension" for uri in _spellings(table.xmi_uris))
-    external_hrefs: list[Element] = []
+    external_hrefs: list[tuple[Element, Element]] = []
     for doc in docs:
         id_attr = f"{{{doc.xmi_ns}}}id"
         for top in doc.model_roots:
@@ -530,7 +530,7 @@ def _index_subtree(
     ext_tags: frozenset[str],
     by_id: dict[str, Element],
     profile_applications: list[Element],
-    external_hrefs: list[Element],
+    external_hrefs: list[tuple[Element, Element]],
     diagnostics: list[Diagnostic],
     file: str,
 ) -> None:
@@ -546,7 +546,7 @@ def _index_subtree(
             continue
         href = el.get("href")
         if href and href[0] != "#":
-            external_hrefs.append(el)
+            external_hrefs.append((top, el))
         ref_id = el.get(id_attr)
         if ref_id is None:
             continue
