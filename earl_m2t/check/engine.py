@@ -44,6 +44,14 @@ def _parse_invariants(path: Path) -> tuple[Invariant, ...]:
     return tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path)))
 
 
+def load_rule_code() -> None:
+    """Import the rule implementations and the libraries they run (networkx, PySAT) now, not on
+    first use: ``check`` does so while the model parses in the background (:mod:`earl_m2t.read.early`)."""
+    python_rules()
+    import networkx  # noqa: F401
+    import pysat.solvers  # noqa: F401
+
+
 def context_objects(model: EarlModel, context: str) -> Iterator[object]:
     """The objects an OCL ``context`` type ranges over; replicated subsystems count once."""
     if context == "System":

@@ -39,6 +39,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from earl_m2t.cli.check_files import run_check
+    from earl_m2t.read.early import parsing_early
 
-    return run_check(args)
+    # one model file: it parses while the checker is imported (earl_m2t.read.early)
+    with parsing_early(args.models[0] if len(args.models) == 1 else None):
+        from earl_m2t.cli.check_files import run_check
+
+        return run_check(args)

@@ -8,7 +8,7 @@ import sys
 from dataclasses import dataclass
 
 from earl_m2t.api import check_loaded, load
-from earl_m2t.check.engine import CheckOptions
+from earl_m2t.check.engine import CheckOptions, load_rule_code
 from earl_m2t.check.registry import catalogue
 from earl_m2t.cli.check_settings import Settings, UsageError, settings
 from earl_m2t.cli.discover import model_files
@@ -16,6 +16,7 @@ from earl_m2t.cli.progress import Progress
 from earl_m2t.config import ConfigError
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity, SourceTextError
 from earl_m2t.read.bounded import ReadPolicy, reading_with
+from earl_m2t.read.early import still_parsing
 from earl_m2t.render.diagnostics import FORMATS, CheckReport
 
 
@@ -70,6 +71,8 @@ def run_check(args: argparse.Namespace) -> int:
     except (ConfigError, UsageError, SourceTextError) as exc:
         print(str(exc).splitlines()[0], file=sys.stderr)
         return 2
+    if still_parsing():  # the rules' code loads while the model parses, not after
+        load_rule_code()
     files, empty = model_files(args.models)
     for folder in empty:
         print(f"{folder}: warning: no model files found", file=sys.stderr)

@@ -27,6 +27,7 @@ from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
 from earl_m2t.read.bounded import open_regular
 from earl_m2t.read.dialects import DialectTable, detect_dialect, dialect_table, normalise_uri
+from earl_m2t.read.early import take_parsed
 from earl_m2t.read.extension import ExtensionIndex, in_connector_order
 from earl_m2t.read.libraries import classify
 from earl_m2t.read.mdzip import is_archive, read_model_members
@@ -398,6 +399,9 @@ def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:
     file = str(path)
     if is_sysml2(path):
         raise ModelReadError(file, "is SysML v2 text, not XMI")
+    early = take_parsed(path)  # parsed while the command was importing (earl_m2t.read.early)
+    if early is not None:
+        return index_tree(early.getroot(), file, dialect)
     with open_regular(path) as stream:  # a regular file within the size limit, or an error
         if is_archive(stream):
             members = read_model_members(stream, file)
