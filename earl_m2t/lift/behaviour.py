@@ -31,6 +31,7 @@ CONTROL_NODES = frozenset(
 ACTION_TYPES = frozenset({"CallBehaviorAction", "OpaqueAction", "CallOperationAction"})
 PIN_FEATURES = frozenset({"argument", "result", "inputValue", "outputValue"})
 MEMORY_ACCESS_SUFFIXES = {"m": "", "mi": "read", "mo": "write"}
+CONDITION_FEATURES = ("ownedRule", "postcondition", "precondition")  # where tc and ec are looked for, in order
 CONDITION_NAMES = {"tc": "tc", "terminalcondition": "tc", "ec": "ec", "errorcondition": "ec"}
 
 
@@ -73,6 +74,7 @@ class BehaviourLifter:
         self.ctx = ctx
         self.raw = ctx.raw
         self._owned: dict[int, list[tuple[Element, str]]] = {}
+        self._storage: dict[str, tuple[str, ...]] = {}  # resolve_storage's answers: pfs name the same buffers
 
     # -- owned behaviours of the block -------------------------------------------------------
     def owned_behaviours(self, block: Element) -> list[tuple[Element, str]]:
@@ -116,6 +118,12 @@ class BehaviourLifter:
 
     def resolve_storage(self, name: str) -> tuple[str, ...]:
         """Paths of the buffers or memory a pf parameter or predicate names (templates name all instances)."""
+        found = self._storage.get(name)
+        if found is None:
+            found = self._storage[name] = self._resolve_storage(name)
+        return found
+
+    def _resolve_storage(self, name: str) -> tuple[str, ...]:
         stem, _, abbr = name.rpartition("/") if "/" in name else (name, "", "")
         buffers = self.ctx.inputs + self.ctx.outputs
         if abbr in ("ib", "ob", ""):
@@ -273,12 +281,16 @@ class BehaviourLifter:
         raw = self.raw
         name = raw.name(activity) or f"{state_name}/bb"
         path = f"{self.ctx.path}.{name}"
+        by_feature: dict[str, list[Element]] = {feature: [] for feature in CONDITION_FEATURES}
+        for owned in activity:  # one pass over the children for the three features
+            features = by_feature.get(owned.tag)  # type: ignore[call-overload]
+            if features is not None:
+                features.append(owned)
         rules: dict[str, Element] = {}
-        for feature in ("ownedRule", "postcondition", "precondition"):
-            for owned in raw.children(activity, feature):
-                role = CONDITION_NAMES.get(raw.name(owned).strip().lower().replace(" ", ""))
-                if role and role not in rules:
-                    rules[role] = owned
+        for owned in (el for feature in CONDITION_FEATURES for el in by_feature[feature]):
+            role = CONDITION_NAMES.get(raw.name(owned).strip().lower().replace(" ", ""))
+            if role and role not in rules:
+                rules[role] = owned
         tc = condition_of(raw, rules.get("tc"), path, "tc")
         ec = condition_of(raw, rules.get("ec"), path, "ec")
         stages, problems = self.stages(activity)

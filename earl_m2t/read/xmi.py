@@ -157,6 +157,8 @@ class RawModel:
 
     # -- identity and location -------------------------------------------------------------
     def xmi_id(self, el: Element) -> str:
+        if self.resolver is None:  # the common case, answered without a call
+            return el.get(self._id_attr) or ""
         return el.get(self._home(el)._id_attr) or ""
 
     def file_of(self, el: Element) -> str:
@@ -168,6 +170,8 @@ class RawModel:
         return next((file for doc, file in home.documents if doc is root), home.file)
 
     def location(self, el: Element) -> Location:
+        if self.resolver is None and len(self.documents) == 1:  # one file: no lookups (a hot path)
+            return Location(self.file, el.sourceline or 0, 0, el.get(self._id_attr) or "")
         return Location(self.file_of(el), el.sourceline or 0, 0, self.xmi_id(el))
 
     def name(self, el: Element) -> str:
@@ -201,7 +205,7 @@ class RawModel:
 
     def uml_type(self, el: Element) -> str:
         """The UML metaclass of an element (``Class``, ``Port``…), from ``xmi:type`` or its feature."""
-        home = self._home(el)
+        home = self if self.resolver is None else self._home(el)
         declared = el.get(home._type_attr)
         if declared:
             return declared.rpartition(":")[2]
@@ -216,11 +220,10 @@ class RawModel:
     # -- containment -----------------------------------------------------------------------
     def children(self, el: Element, feature: str, *types: str) -> list[Element]:
         """Contained children in ``feature`` (XML element name), optionally of given UML types."""
-        found = []
-        for child in el.iterchildren(feature):
-            if not types or self.uml_type(child) in types:
-                found.append(child)
-        return found
+        if not types:
+            return list(el.iterchildren(feature))
+        uml_type = self.uml_type
+        return [child for child in el.iterchildren(feature) if uml_type(child) in types]
 
     def owner(self, el: Element) -> Element | None:
         """The containing element; None at the top (the ``xmi:XMI`` wrapper is nobody's owner)."""

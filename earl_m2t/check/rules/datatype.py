@@ -94,6 +94,8 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
             by_ros_name.setdefault((scope, _ROS_KEYS[ros](name)), []).append((name, path, location))
     reported: set[str] = set()
     for (_, key), items in by_scope.items():
+        if len(items) == 1:
+            continue  # nearly every name: nothing to compare it with
         names = list(dict.fromkeys(name for name, _, _ in items))
         _, path, location = items[-1]
         if len(names) > 1:
@@ -104,6 +106,8 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
             reported.add(path)
             yield Finding(f"{path}: {len(items)} elements are named '{names[0]}'", location, path)
     for (_, key), items in by_ros_name.items():
+        if len(items) == 1:
+            continue
         names = list(dict.fromkeys(name for name, _, _ in items))
         _, path, location = items[-1]
         if len(names) > 1 and path not in reported:

@@ -2,24 +2,45 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Iterator
 
 from earl_m2t.check.registry import Finding, rule
-from earl_m2t.model.elements import BasicBehaviour, EarlModel, Subsystem
+from earl_m2t.model.elements import BasicBehaviour, EarlModel, PartialFunction, Subsystem
 
 
-def _stage_conflicts(sub: Subsystem, bb: BasicBehaviour, want_memory: bool) -> Iterator[tuple[int, str, list[str]]]:
-    """(stage number, written element, writers) where two pf of one stage write the same element."""
-    outputs = {b.path for b in sub.outputs}
-    memory = {m.path for m in sub.memory}
-    targets = memory if want_memory else outputs
+@dataclass(frozen=True, slots=True)
+class _Pf:
+    """A pf with what it reads and writes worked out once (each is asked for in every stage)."""
+
+    function: PartialFunction
+    reads: tuple[str, ...]  # paths, in model order, without repeats
+    writes: tuple[str, ...]
+
+    @property
+    def name(self) -> str:
+        return self.function.name
+
+
+def _functions(sub: Subsystem) -> dict[str, _Pf]:
+    """The pfs of a subsystem by name; the first of a name, as ``Subsystem.function`` finds it."""
+    table: dict[str, _Pf] = {}
+    for pf in sub.functions:
+        if pf.name not in table:
+            table[pf.name] = _Pf(pf, tuple(dict.fromkeys(pf.reads)), tuple(dict.fromkeys(pf.writes)))
+    return table
+
+
+def _stage_conflicts(sub: Subsystem, functions: dict[str, _Pf], targets: set[str],
+                     bb: BasicBehaviour) -> Iterator[tuple[int, str, list[str]]]:
+    """(stage number, written element, writers) where two pf of one stage write the same element of ``targets``."""
     for number, stage in enumerate(bb.stages, start=1):
         writers: dict[str, list[str]] = {}
         for pf_name in stage:
-            pf = sub.function(pf_name)
+            pf = functions.get(pf_name)
             if pf is None:
                 continue
-            for written in dict.fromkeys(pf.writes):
+            for written in pf.writes:
                 if written in targets:
                     writers.setdefault(written, []).append(pf_name)
         for written, names in writers.items():
@@ -32,9 +53,11 @@ def _stage_rule(model: EarlModel, want_memory: bool) -> Iterator[Finding]:
     for sub in model.definitions():
         # replicated instances are reported by the name the model gives them (windingCurrentK/m)
         template = {b.path: b.template for b in sub.outputs} | {m.path: m.template for m in sub.memory}
+        targets = {m.path for m in sub.memory} if want_memory else {b.path for b in sub.outputs}
+        functions = _functions(sub)
         for bb in sub.behaviours:
             grouped: dict[tuple[int, tuple[str, ...]], list[str]] = {}
-            for number, written, names in _stage_conflicts(sub, bb, want_memory):
+            for number, written, names in _stage_conflicts(sub, functions, targets, bb):
                 shown = grouped.setdefault((number, tuple(names)), [])
                 if template[written] not in shown:
                     shown.append(template[written])
@@ -83,13 +106,14 @@ def tf_activity_malformed(model: EarlModel) -> Iterator[Finding]:
 def stage_read_write_race(model: EarlModel) -> Iterator[Finding]:
     for sub in model.definitions():
         template = {m.path: m.template for m in sub.memory}
+        table = _functions(sub)
         for bb in sub.behaviours:
             for number, stage in enumerate(bb.stages, start=1):
-                functions = [pf for pf in (sub.function(name) for name in stage) if pf is not None]
+                functions = [pf for pf in (table.get(name) for name in stage) if pf is not None]
                 races: dict[tuple[str, str], list[str]] = {}
                 for reader in functions:
                     own = set(reader.writes)  # a pf that also writes the memory is T001's concern
-                    for read in dict.fromkeys(reader.reads):
+                    for read in reader.reads:
                         if read not in template or read in own:
                             continue
                         for writer in functions:
@@ -106,8 +130,9 @@ def stage_read_write_race(model: EarlModel) -> Iterator[Finding]:
 @rule("T006")
 def output_buffer_not_written(model: EarlModel) -> Iterator[Finding]:
     for sub in model.definitions():
+        table = _functions(sub)
         for bb in sub.behaviours:
-            functions = [sub.function(name) for name in bb.functions]
+            functions = [table.get(name) for name in bb.functions]
             if bb.activity_problems or any(pf is None for pf in functions):
                 continue  # a malformed tf is T005's; its writes are not known
             written = {path for pf in functions if pf is not None for path in pf.writes}
