@@ -283,7 +283,7 @@ class BehaviourLifter:
         path = f"{self.ctx.path}.{name}"
         by_feature: dict[str, list[Element]] = {feature: [] for feature in CONDITION_FEATURES}
         for owned in activity:  # one pass over the children for the three features
-            features = by_feature.get(owned.tag)  # type: ignore[call-overload]
+            features = by_feature.get(owned.tag)
             if features is not None:
                 features.append(owned)
         rules: dict[str, Element] = {}
