@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
-from typing import Iterable, Iterator
+from typing import Callable, Iterable, Iterator
 
 from earl_m2t.cache import cached
 from earl_m2t.check.registry import Finding, RuleInfo, catalogue, python_rules
@@ -44,11 +44,21 @@ def _parse_invariants(path: Path) -> tuple[Invariant, ...]:
     return tuple(parse_invariants(path.read_text(encoding="utf-8"), str(path)))
 
 
-def load_rule_code() -> None:
-    """Import the rule implementations and the libraries they run (networkx, PySAT) now, not on
-    first use: ``check`` does so while the model parses in the background (:mod:`earl_m2t.read.early`)."""
-    python_rules()
-    import networkx  # noqa: F401
+def load_rule_code(worth_it: Callable[[], bool]) -> None:
+    """Import the rule implementations and the SAT solver now, not on first use, one after the
+    other while ``worth_it()`` holds: ``check`` does so while the model parses in the background
+    (:mod:`earl_m2t.read.early`), where the imports cost no wall time.
+
+    networkx stays imported on first use, after the model is built: imported before, it raised
+    the peak memory of checking the 10 MB bench model by about 10 MB (8 %), as the memory that
+    reading and lifting free is then not reused for it."""
+    for load in (python_rules, _load_solver):
+        if not worth_it():
+            return
+        load()
+
+
+def _load_solver() -> None:
     import pysat.solvers  # noqa: F401
 
 

@@ -71,8 +71,7 @@ def run_check(args: argparse.Namespace) -> int:
     except (ConfigError, UsageError, SourceTextError) as exc:
         print(str(exc).splitlines()[0], file=sys.stderr)
         return 2
-    if still_parsing():  # the rules' code loads while the model parses, not after
-        load_rule_code()
+    load_rule_code(worth_it=still_parsing)  # the rules' code loads while the model parses, not after
     files, empty = model_files(args.models)
     for folder in empty:
         print(f"{folder}: warning: no model files found", file=sys.stderr)
