@@ -462,14 +462,16 @@ def index_documents(documents: Sequence[tuple[Element, str]], dialect: str | Non
     raw = RawModel(main.file, main.root, dialect, main.xmi_ns, main.uml_ns, by_id, {}, model_roots, diagnostics,
                    table, tuple((d.root, d.file) for d in docs), external_hrefs=external_hrefs)
     raw.earl_uris = earl_profile_uris(raw, profile_applications)
-    families: dict[str, tuple[str, str]] = {}  # tag → (namespace, family)
+    kinds: dict[str, tuple[str, str, str]] = {}  # tag → (namespace, family, stereotype name)
+    name_attributes = table.stereotype_name_attributes
     for doc in docs:
         for top in doc.applications:
-            uri_and_family = families.get(top.tag)
-            if uri_and_family is None:
+            tag = top.tag
+            kind = kinds.get(tag)
+            if kind is None:
                 uri = _namespace_of(top)
-                uri_and_family = families[top.tag] = (uri, table.family(uri, raw.earl_uris))
-            app = _stereotype_application(raw, top, *uri_and_family)
+                kind = kinds[tag] = (uri, table.family(uri, raw.earl_uris), tag.rpartition("}")[2])
+            app = _stereotype_application(raw, top, kind, name_attributes)
             if app is not None:
                 raw.stereotypes.setdefault(app.base_id, []).append(app)
     return raw
@@ -605,13 +607,13 @@ def earl_profile_uris(raw: RawModel, profile_applications: list[Element]) -> fro
     return frozenset(uris)
 
 
-def _stereotype_application(raw: RawModel, el: Element, uri: str, family: str) -> StereotypeApplication | None:
+def _stereotype_application(raw: RawModel, el: Element, kind: tuple[str, str, str],
+                            name_attributes: tuple[str, ...]) -> StereotypeApplication | None:
+    """The application ``el`` writes; ``kind`` is its tag's (namespace, family, stereotype name)."""
+    uri, family, name = kind
     base_id = ""
-    tag = el.tag
-    name = tag.rpartition("}")[2] if isinstance(tag, str) else ""
     tags: dict[str, str] = {}
-    name_attributes = raw.table.stereotype_name_attributes
-    for key, value in el.attrib.items():
+    for key, value in el.items():
         if key.startswith("base_"):
             base_id = value
         elif key in name_attributes:
