@@ -15,6 +15,7 @@ from pathlib import Path
 
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.early_parse import parses_model_early
 from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.read_options import add_read_options
 
@@ -38,6 +39,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
+@parses_model_early
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.cli.checked_model import read_and_check
     from earl_m2t.gen.diagrams import find_stale_diagrams

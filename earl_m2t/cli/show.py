@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from earl_m2t.cli.dialect_option import add_dialect_option
+from earl_m2t.cli.early_parse import parses_model_early
 from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.read_options import add_read_options
 
@@ -20,6 +21,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
+@parses_model_early
 def run(args: argparse.Namespace) -> int:
     import json
 
