@@ -12,6 +12,9 @@ start to exit, and its peak resident set size (``ru_maxrss`` of that child, from
 * a baseline: a fresh interpreter that imports only ``lxml.etree`` and parses the file
   with the parser options earl-m2t uses (``huge_tree=True``, ``resolve_entities=False``,
   ``no_network=True``, no DTD, comments and PIs removed, no ID table);
+* the floor: ``bench/one_pass.py FILE``, the same parse and one pass from Python over every
+  element (its id, type, name and line into an index), leaving without freeing the tree as
+  earl-m2t does: the least a checker written in Python over lxml costs;
 * ``python -c pass``: the interpreter's own start-up, for context.
 
 Before the models, the start-up row: ``earl-m2t --help`` against ``python -c pass``, run by
@@ -117,15 +120,18 @@ def measure(size_mb: int, runs: int, check_cmd: list[str]) -> dict:
     rel = str(path.relative_to(ROOT))
     check_argv = [*check_cmd, "check", rel]
     parse_argv = [sys.executable, "-c", PARSE_SCRIPT, rel]
+    floor_argv = [sys.executable, str(BENCH / "one_pass.py"), rel]
     # One untimed round first: the file is then in the page cache for every timed run.
     warm = run_once(check_argv)
     run_once(parse_argv)
+    run_once(floor_argv)
     clean = warm.exit_code == 0 and "0 error(s), 0 warning(s)" in warm.output
-    checks, parses = [], []
-    for _ in range(runs):  # interleaved, so that drift hits both alike
+    checks, parses, floors = [], [], []
+    for _ in range(runs):  # interleaved, so that drift hits all alike
         checks.append(run_once(check_argv))
         parses.append(run_once(parse_argv))
-    for sample in checks + parses:
+        floors.append(run_once(floor_argv))
+    for sample in checks + parses + floors:
         if sample.exit_code != 0:
             clean = False
     return {
@@ -136,6 +142,7 @@ def measure(size_mb: int, runs: int, check_cmd: list[str]) -> dict:
         "check_output": warm.output.strip().splitlines()[-1:] if warm.output.strip() else [],
         "check": summarise(checks),
         "parse": summarise(parses),
+        "floor": summarise(floors),
     }
 
 
@@ -178,6 +185,7 @@ def report(results: list[dict], startup: Summary, runs: int, help_run: Summary |
     for res in results:
         check: Summary = res["check"]
         parse: Summary = res["parse"]
+        floor: Summary = res["floor"]
         big = res["size_mb"] >= 10
         print()
         print(f"== {res['size_mb']} MB model: {res['file']} ({res['file_mb']:.2f} MB), median of {runs} runs ==")
@@ -186,12 +194,18 @@ def report(results: list[dict], startup: Summary, runs: int, help_run: Summary |
         print(f"   {'':24s} {'wall (s)':>9s} {'min-max (s)':>15s} {'peak RSS (MB)':>14s}")
         print(f"   {'lxml parse (baseline)':24s} {parse.wall:9.3f} {parse.wall_min:7.3f}-{parse.wall_max:<7.3f} "
               f"{parse.rss:14.1f}")
+        print(f"   {'one pass (floor)':24s} {floor.wall:9.3f} {floor.wall_min:7.3f}-{floor.wall_max:<7.3f} "
+              f"{floor.rss:14.1f}")
         print(f"   {'earl-m2t check':24s} {check.wall:9.3f} {check.wall_min:7.3f}-{check.wall_max:<7.3f} "
               f"{check.rss:14.1f}")
         res["time_ratio"] = check.wall / parse.wall
         res["memory_ratio"] = check.rss / parse.rss
         print(f"   ratio check/parse: time {fmt_ratio(res['time_ratio'], TARGET_TIME_RATIO if big else None)}")
         print(f"                      memory {fmt_ratio(res['memory_ratio'], TARGET_MEMORY_RATIO if big else None)}")
+        res["floor_ratio"] = floor.wall / parse.wall
+        left = TARGET_TIME_RATIO * parse.wall - floor.wall
+        print(f"   ratio floor/parse: time {fmt_ratio(res['floor_ratio'], None)}; at {TARGET_TIME_RATIO:g}× the parse, "
+              f"{left:.3f} s would be left beyond the floor for reading, lifting and the rules")
         if res["size_mb"] == 1:
             ok = "met" if check.wall <= TARGET_SMALL_SECONDS else "NOT met"
             print(f"   check of the 1 MB model: {check.wall:.3f} s  (target ≤ {TARGET_SMALL_SECONDS} s: {ok})")
@@ -224,7 +238,8 @@ def main(argv: list[str] | None = None) -> int:
     report(results, startup, args.runs, help_run)
     if args.json:
         payload = {"startup": asdict(startup), "help": asdict(help_run), "runs": args.runs,
-                   "results": [{**r, "check": asdict(r["check"]), "parse": asdict(r["parse"])} for r in results]}
+                   "results": [{**r, "check": asdict(r["check"]), "parse": asdict(r["parse"]),
+                                "floor": asdict(r["floor"])} for r in results]}
         args.json.write_text(json.dumps(payload, indent=2), encoding="utf-8")
     return 0
 
