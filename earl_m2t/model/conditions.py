@@ -26,6 +26,7 @@ from earl_m2t.predicate import (
 from earl_m2t.predicate.known import parsed
 
 NUMERIC = frozenset({"integer", "real"})
+_PROBLEMS_KEY = "condition-problems"  # EarlModel.derived: B005's answers by resolver signature and text
 MEMORY_SUFFIXES = frozenset({"m", "mi", "mo"})
 
 
@@ -82,6 +83,12 @@ class ConditionResolver:
         for item in list(subsystem.buffers) + list(subsystem.memory):
             if item.index:
                 self._templates[item.template] = self._templates.get(item.template, 0) + 1
+        # Everything a condition's problems depend on besides its text: subsystems alike in it
+        # (replicated agents) share the answers, kept with the model (the data types are its own).
+        self._signature = (frozenset(self._storage.items()), frozenset(self._memory.items()),
+                           self._predicate_names, frozenset(self._templates.items()))
+        shared = model.derived.setdefault(_PROBLEMS_KEY, {})
+        self._known_problems: dict[tuple[object, str], tuple[tuple[str, int, int], ...]] = shared  # type: ignore[assignment]
 
     def predicate(self, name: str) -> str | None:
         """The primitive predicate a reference names (``x``, ``x/pp``), or None."""
@@ -98,11 +105,21 @@ class ConditionResolver:
         return counts.pop() if len(counts) == 1 else 0
 
     def problems(self, expr: Expr, condition: Condition) -> Iterator[Problem]:
+        """The B005 problems of ``expr``, the parsed text of ``condition``."""
         loc = condition.location
-        for node in walk(expr):
-            for message in self._node_problems(node):
-                where = Location(loc.file, loc.line + max(node.line - 1, 0), node.column, loc.xmi_id)
-                yield Problem("B005", message, where)
+        for message, line, column in self._relative_problems(expr, condition.text):
+            yield Problem("B005", message, Location(loc.file, loc.line + max(line - 1, 0), column, loc.xmi_id))
+
+    def _relative_problems(self, expr: Expr, text: str) -> tuple[tuple[str, int, int], ...]:
+        """(message, line, column in the text) of each problem."""
+        key = (self._signature, text)
+        known = self._known_problems.get(key) if _parse(text) is expr else None
+        if known is None:
+            known = tuple((message, node.line, node.column) for node in walk(expr)
+                          for message in self._node_problems(node))
+            if _parse(text) is expr:
+                self._known_problems[key] = known
+        return known
 
     def _node_problems(self, node: Expr | Number) -> Iterator[str]:
         if isinstance(node, Replicated):

@@ -400,8 +400,8 @@ class EarlModel:
     datatypes: Mapping[str, DataType]  # by qualified name, read-only
     has_earl_content: bool = True  # False when nothing in the file was recognised as EARL
     # what rules derive from the model and share (e.g. one guard analysis per subsystem for
-    # B006 and B007); not part of the model's value
-    derived: dict[object, object] = field(default_factory=dict, compare=False, repr=False)
+    # B006 and B007); not part of the model's value, and not carried over by replace()
+    derived: dict[object, object] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     @property
     def system(self) -> System | None:
