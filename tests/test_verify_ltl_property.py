@@ -69,15 +69,20 @@ def test_a_violated_property_points_at_its_constraint(dialect: str, tmp_path: Pa
     assert "manip/a.cs@idle" in path.read_text(encoding="utf-8").splitlines()[finding["line"] - 1]
 
 
+def _error_at(path: Path, capsys: pytest.CaptureFixture[str], marker: str) -> tuple[int, str, int, int]:
+    """verify's exit code and stderr for ``path``, and the line and column of ``marker`` in the file."""
+    code = main(["verify", str(path)])
+    err = capsys.readouterr().err
+    lines = path.read_text(encoding="utf-8").splitlines()
+    line = next(i for i, text in enumerate(lines, 1) if marker in text)
+    return code, err, line, lines[line - 1].index(marker) + 1
+
+
 def test_an_unknown_predicate_in_the_sysml_constraint_is_one_line_at_its_column(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = _changed("sysml", tmp_path, "[] (manip/a.cs@emergencyStop -> manip/a.cs.halted/pp)")
-    code = main(["verify", str(path)])
-    err = capsys.readouterr().err
+    code, err, line, column = _error_at(path, capsys, "manip/a.cs.halted/pp")
     assert code == 2
-    lines = path.read_text(encoding="utf-8").splitlines()
-    line = next(i for i, text in enumerate(lines, 1) if "halted/pp" in text)
-    column = lines[line - 1].index("manip/a.cs.halted/pp") + 1
     assert err.startswith(f"earl-m2t: verify: {path}:{line}:{column}: no primitive predicate halted/pp "
                           "of the subsystem manip/a.cs"), err
     assert len(err.splitlines()) == 1
@@ -86,12 +91,8 @@ def test_an_unknown_predicate_in_the_sysml_constraint_is_one_line_at_its_column(
 def test_a_syntax_error_in_the_papyrus_constraint_is_one_line(tmp_path: Path,
                                                              capsys: pytest.CaptureFixture[str]) -> None:
     path = _changed("papyrus", tmp_path, "[] (manip/a.cs@emergencyStop => manip/a.cs@idle)")
-    code = main(["verify", str(path)])
-    err = capsys.readouterr().err
+    code, err, line, column = _error_at(path, capsys, "=> manip")
     assert code == 2
-    lines = path.read_text(encoding="utf-8").splitlines()
-    line = next(i for i, text in enumerate(lines, 1) if "=> manip" in text)
-    column = lines[line - 1].index("=> manip") + 1
     assert err.startswith(f"earl-m2t: verify: {path}:{line}:{column}: unexpected '=>"), err
     assert len(err.splitlines()) == 1
 

@@ -113,11 +113,12 @@ class ConditionResolver:
     def _relative_problems(self, expr: Expr, text: str) -> tuple[tuple[str, int, int], ...]:
         """(message, line, column in the text) of each problem."""
         key = (self._signature, text)
-        known = self._known_problems.get(key) if _parse(text) is expr else None
+        shareable = _parse(text) is expr  # the answer belongs to the text only if expr is its parse
+        known = self._known_problems.get(key) if shareable else None
         if known is None:
             known = tuple((message, node.line, node.column) for node in walk(expr)
                           for message in self._node_problems(node))
-            if _parse(text) is expr:
+            if shareable:
                 self._known_problems[key] = known
         return known
 

@@ -79,7 +79,7 @@ def _parse(file: str, job: _Parse) -> None:
             if is_archive(stream):
                 return
             stream.seek(0)
-            try:
+            try:  # parsed from bytes: lxml reading a Python stream takes the lock for every chunk
                 data = stream.read()
             except OSError as exc:
                 raise ModelReadError(file, f"cannot read file: {exc.strerror or exc}") from None

@@ -6,20 +6,16 @@ from dataclasses import dataclass
 from typing import Iterator
 
 from earl_m2t.check.registry import Finding, rule
-from earl_m2t.model.elements import BasicBehaviour, EarlModel, PartialFunction, Subsystem
+from earl_m2t.model.elements import BasicBehaviour, EarlModel, Subsystem
 
 
 @dataclass(frozen=True, slots=True)
 class _Pf:
     """A pf with what it reads and writes worked out once (each is asked for in every stage)."""
 
-    function: PartialFunction
+    name: str
     reads: tuple[str, ...]  # paths, in model order, without repeats
     writes: tuple[str, ...]
-
-    @property
-    def name(self) -> str:
-        return self.function.name
 
 
 def _functions(sub: Subsystem) -> dict[str, _Pf]:
@@ -27,7 +23,7 @@ def _functions(sub: Subsystem) -> dict[str, _Pf]:
     table: dict[str, _Pf] = {}
     for pf in sub.functions:
         if pf.name not in table:
-            table[pf.name] = _Pf(pf, tuple(dict.fromkeys(pf.reads)), tuple(dict.fromkeys(pf.writes)))
+            table[pf.name] = _Pf(pf.name, tuple(dict.fromkeys(pf.reads)), tuple(dict.fromkeys(pf.writes)))
     return table
 
 
