@@ -9,6 +9,7 @@ import re
 import shutil
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -22,7 +23,7 @@ from earl_m2t.gen import GenError, generate, render  # noqa: E402
 from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols  # noqa: E402
 from earl_m2t.gen.names import Scope, cpp_identifier  # noqa: E402
 from earl_m2t.model.conditions import parse_condition  # noqa: E402
-from earl_m2t.model.elements import Condition  # noqa: E402
+from earl_m2t.model.elements import Condition, EarlModel  # noqa: E402
 from earl_m2t.model.location import Location  # noqa: E402
 from earl_m2t.model.naming import _table  # noqa: E402
 
@@ -218,9 +219,10 @@ def test_a_scope_keeps_identifiers_distinct_even_ignoring_case() -> None:
 # ---------------------------------------------------------------- conditions
 
 
-def _compiled(text: str, owner: str = "manip/a.cs") -> str:
-    """A condition of the sample's subsystem ``owner`` compiled against plain symbol names."""
-    model = load(SAMPLE).model
+def _compiled(text: str, owner: str = "manip/a.cs", model: EarlModel | None = None) -> str:
+    """A condition of the sample's subsystem ``owner`` (of ``model``, by default the sample)
+    compiled against plain symbol names."""
+    model = model or load(SAMPLE).model
     sub = model.subsystem(owner)
     assert sub is not None
     field_names = {(key, f.name): f.name for key, dt in model.datatypes.items() for f in dt.fields}
@@ -229,7 +231,7 @@ def _compiled(text: str, owner: str = "manip/a.cs") -> str:
     storage |= {f"m:{m.name.split('/')[0]}": Storage(f"data_.{m.name.split('/')[0]}_m", m.datatype, "m")
                 for m in sub.memory}
     calls = {p.name: f"{p.name.split('/')[0]}_pp()" for p in sub.predicates}
-    compiler = ExprCompiler(model, sub, Symbols(storage, calls, field_names))
+    compiler = ExprCompiler(model, sub, Symbols(storage, calls, field_names, unbounded_capacity=16))
     expr, problem = parse_condition(Condition(text, "EARL", Location("x"), owner, "ic"))
     assert expr is not None, problem
     return compiler.compile(expr, "test")
@@ -245,6 +247,34 @@ def test_conditions_compile_from_the_parsed_expression() -> None:
     assert _compiled("TRUE or FALSE") == "(true || false)"
     with pytest.raises(GenError, match="unknown buffer or memory"):
         _compiled("nothing/ib.msg.x")
+
+
+def test_an_index_is_copied_only_where_the_cpp_value_has_room_for_it() -> None:
+    """0-based, as B005 checks: q [6] is a std::array of 6; the optional jointPosSetpoint holds
+    at most one value. An index the value has no room for, or of a field that is no array,
+    stops the generator (with --force) instead of g++ or an out-of-bounds read."""
+    assert _compiled("currentJointPos/mi.data.q[5] > 0.5") == "(data_.currentJointPos_m.q[5] > 0.5)"
+    assert _compiled("manipulatorCommand/ib.msg.jointPosSetpoint[0].q[0] > 0") == (
+        "(data_.manipulatorCommand.msg().jointPosSetpoint[0].q[0] > 0)")
+    with pytest.raises(GenError, match=r"index 6 is out of range: 'q' holds at most 6"):
+        _compiled("currentJointPos/mi.data.q[6] > 0.5")
+    with pytest.raises(GenError, match=r"index 1 is out of range: 'jointPosSetpoint' holds at most 1"):
+        _compiled("manipulatorCommand/ib.msg.jointPosSetpoint[1].q[0] > 0")
+    with pytest.raises(GenError, match="'emergencyStopCommand' is not an array"):
+        _compiled("manipulatorCommand/ib.msg.emergencyStopCommand[2]")
+
+
+def test_an_index_of_an_unbounded_array_fits_the_target_s_capacity() -> None:
+    """q [*] has no bound in the model; in C++ it holds [capacities] unbounded_array values."""
+    model = load(SAMPLE).model
+    key = next(k for k, dt in model.datatypes.items() if dt.name == "JointPosition")
+    joint = model.datatypes[key]
+    unbounded = replace(joint, fields=tuple(replace(f, lower=0, upper=None) if f.name == "q" else f
+                                            for f in joint.fields))
+    model = replace(model, datatypes={**model.datatypes, key: unbounded})
+    assert _compiled("currentJointPos/mi.data.q[15] > 0", model=model) == "(data_.currentJointPos_m.q[15] > 0)"
+    with pytest.raises(GenError, match=r"index 16 is out of range: 'q' holds at most 16 \(\[capacities\] unbounded"):
+        _compiled("currentJointPos/mi.data.q[16] > 0", model=model)
 
 
 def test_render_is_pure_and_lists_one_user_file_per_pf() -> None:

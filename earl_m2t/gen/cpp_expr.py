@@ -55,6 +55,7 @@ class Symbols:
     storage: dict[str, Storage]  # buffer instance names, and memory stems (``motionFinished``)
     predicates: dict[str, str]  # primitive predicate name -> C++ call (``emergencyStop_pp()``)
     field_names: dict[tuple[str, str], str]  # (datatype key, field name) -> C++ member
+    unbounded_capacity: int  # elements of a [*] field in C++ (target.toml [capacities])
 
 
 class ExprCompiler:
@@ -146,13 +147,24 @@ class ExprCompiler:
             cpp += "." + self.symbols.field_names[(datatype.qualified_name, field.name)]
             steps.append((cpp, field))
             if bracket:
-                cpp += f"[{int(index.rstrip(']').strip())}]"
+                cpp += f"[{self._index(ref, field, int(index.rstrip(']').strip()))}]"
             elif field.is_array and position < len(ref.path) - 1:
                 if field.is_fixed_array:
                     raise self._error(f"'{format_predicate(ref)}': index the array '{name}'")
                 cpp += "[0]"  # through an optional value: its (default) content when absent
             datatype = self.model.datatypes.get(field.type)
         return cpp, steps
+
+    def _index(self, ref: FieldRef, field: Field, index: int) -> int:
+        """An index the C++ value has room for (rule B005 reports the model's own bounds)."""
+        if not field.is_array:
+            raise self._error(f"'{format_predicate(ref)}': '{field.name}' is not an array and cannot be indexed")
+        room = field.upper if field.upper is not None else self.symbols.unbounded_capacity
+        if index >= room:
+            why = "" if field.upper is not None else " ([capacities] unbounded_array of the target)"
+            raise self._error(f"'{format_predicate(ref)}': index {index} is out of range: "
+                              f"'{field.name}' holds at most {room}{why}")
+        return index
 
     def _value(self, ref: FieldRef) -> tuple[str, str]:
         storage = self._storage(ref)

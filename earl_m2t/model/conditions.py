@@ -9,14 +9,17 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Iterator
 
-from earl_m2t.model.elements import Condition, DataType, EarlModel, Subsystem
+from earl_m2t.model.elements import Condition, DataType, EarlModel, Field, Subsystem
 from earl_m2t.model.location import Location
 from earl_m2t.predicate import (
+    And,
     Compare,
     Expr,
     FieldRef,
     NewData,
+    Not,
     Number,
+    Or,
     PredicateRef,
     PredicateSyntaxError,
     Replicated,
@@ -26,6 +29,7 @@ from earl_m2t.predicate import (
 from earl_m2t.predicate.known import parsed
 
 NUMERIC = frozenset({"integer", "real"})
+TRUTH_VALUED = NUMERIC | {"boolean"}  # a number in a boolean place means "is not 0"
 _PROBLEMS_KEY = "condition-problems"  # EarlModel.derived: B005's answers by resolver signature and text
 MEMORY_SUFFIXES = frozenset({"m", "mi", "mo"})
 
@@ -116,20 +120,27 @@ class ConditionResolver:
         shareable = _parse(text) is expr  # the answer belongs to the text only if expr is its parse
         known = self._known_problems.get(key) if shareable else None
         if known is None:
+            truth_places = _truth_places(expr)
             known = tuple((message, node.line, node.column) for node in walk(expr)
-                          for message in self._node_problems(node))
+                          for message in self._node_problems(node, id(node) in truth_places))
             if shareable:
                 self._known_problems[key] = known
         return known
 
-    def _node_problems(self, node: Expr | Number) -> Iterator[str]:
+    def _node_problems(self, node: Expr | Number, truth_place: bool) -> Iterator[str]:
+        """The problems of one node; ``truth_place``: its value is used as true or false."""
         if isinstance(node, Replicated):
             if not self.replication_count(node):
                 yield ("replicated form names no replicated buffer or memory "
                        "(expected names with K and a fixed multiplicity)")
         elif isinstance(node, PredicateRef):
-            if self.predicate(node.name) is None and self._field_kind(FieldRef(node.name)) is None:
-                yield f"unknown primitive predicate '{node.name}'"
+            if self.predicate(node.name) is None:
+                ref = FieldRef(node.name)
+                kind = self._field_kind(ref)
+                if kind is None:
+                    yield f"unknown primitive predicate '{node.name}'"
+                elif truth_place and kind not in TRUTH_VALUED:
+                    yield _not_truth_valued(ref, kind)
         elif isinstance(node, NewData):
             kind = self._storage.get(node.ref.head, ("", ""))[0] or self._storage.get(_template_head(node.ref.head), ("", ""))[0]
             if kind != "ib":
@@ -138,6 +149,8 @@ class ConditionResolver:
             message = self._check_field(node)
             if message:
                 yield message
+            elif truth_place and (kind := self._field_kind(node)) not in TRUTH_VALUED:
+                yield _not_truth_valued(node, kind)
         elif isinstance(node, Compare):
             for side in (node.left, node.right):
                 if isinstance(side, FieldRef) and self._field_kind(side) not in (None, *NUMERIC):
@@ -158,7 +171,10 @@ class ConditionResolver:
                 return f"a memory holds 'data', not '{ref.member}'"
         else:
             return f"unknown buffer or memory '{head}'"
-        if self._field_kind(ref) is None:
+        kind, problem = self._walk_path(ref)
+        if problem:
+            return f"'{_text(ref)}': {problem}"
+        if kind is None:
             return f"'{_text(ref)}' names no field of its dataType"
         return ""
 
@@ -167,19 +183,41 @@ class ConditionResolver:
         return self._field_kind(ref)
 
     def _field_kind(self, ref: FieldRef) -> str | None:
-        """The primitive kind at the end of a field path ('struct' for composites), None if unknown."""
+        """The kind of the value at the end of a field path: a primitive kind, 'struct',
+        'enumeration', or 'array' ('optional' for [0..1]) for an array field named without an
+        index; None if unknown."""
+        return self._walk_path(ref)[0]
+
+    def _walk_path(self, ref: FieldRef) -> tuple[str | None, str]:
+        """(the kind of the value ``ref`` names, what is wrong with its indexes or "").
+
+        An index is 0-based, as in the generated code: ``q[5]`` is the last of a ``q [6]``. A
+        fixed array inside the path needs an index; a variable-length or optional one without
+        an index is read through its first element (as ``newData`` of the path checks it is
+        there)."""
         datatype_key = self._datatype_of(ref.head)
         if datatype_key is None:
-            return None
+            return None, ""
         datatype = self.model.datatypes.get(datatype_key)
-        for segment in ref.path:
+        field: Field | None = None
+        indexed = False
+        for position, segment in enumerate(ref.path):
             if datatype is None or datatype.kind != "struct":
-                return None
-            field = datatype.field_named(segment.partition("[")[0])
+                return None, ""
+            name, indexed, index = _segment(segment)
+            field = datatype.field_named(name)
             if field is None:
-                return None
+                return None, ""
+            if indexed:
+                problem = _index_problem(field, index)
+                if problem:
+                    return None, problem
+            elif field.is_fixed_array and position < len(ref.path) - 1:
+                return None, f"'{name}' is an array of {field.upper}: index it, as in {name}[0]"
             datatype = self.model.datatypes.get(field.type)
-        return _kind(datatype)
+        if field is not None and field.is_array and not indexed:
+            return ("optional" if (field.lower, field.upper) == (0, 1) else "array"), ""
+        return _kind(datatype), ""
 
     def _datatype_of(self, head: str) -> str | None:
         for key in (head, _template_head(head)):
@@ -189,6 +227,42 @@ class ConditionResolver:
             if key in self._memory:
                 return self._memory[key]
         return None
+
+
+def _truth_places(expr: Expr) -> set[int]:
+    """The ids of the nodes whose value is used as true or false: the whole condition, the
+    operands of ¬, ∧ and ∨, and the template of a replication."""
+    places = {id(expr)}
+    for node in walk(expr):
+        if isinstance(node, Not):
+            places.add(id(node.operand))
+        elif isinstance(node, (And, Or)):
+            places.update(id(operand) for operand in node.operands)
+        elif isinstance(node, Replicated):
+            places.add(id(node.template))
+    return places
+
+
+def _not_truth_valued(ref: FieldRef, kind: str | None) -> str:
+    what = {"array": "an array", "optional": "an optional value [0..1]", "struct": "a composite dataType",
+            "enumeration": "an enumeration", "string": "a string"}.get(kind or "", f"of kind {kind}")
+    return f"'{_text(ref)}' is {what}, not a boolean or a number, and cannot be a condition"
+
+
+def _segment(segment: str) -> tuple[str, bool, int]:
+    """``q[2]`` → ("q", True, 2); ``q`` → ("q", False, 0)."""
+    name, bracket, rest = segment.partition("[")
+    return name, bool(bracket), int(rest.rstrip("]").strip() or 0) if bracket else 0
+
+
+def _index_problem(field: Field, index: int) -> str:
+    if not field.is_array:
+        return f"'{field.name}' is not an array and cannot be indexed"
+    if field.upper is not None and index >= field.upper:
+        size = f"has {field.upper} element" if field.is_fixed_array else f"holds at most {field.upper} element"
+        plural = "" if field.upper == 1 else "s"
+        return f"index {index} is out of range: '{field.name}' {size}{plural} (indexes start at 0)"
+    return ""
 
 
 def _kind(datatype: DataType | None) -> str | None:

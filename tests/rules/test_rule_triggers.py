@@ -640,6 +640,30 @@ def predicate_names_unknown_field(s: Sample) -> Expect:
     return Expect(s.id(pp), "newJointPos/pp")
 
 
+def guard_indexes_a_boolean(s: Sample) -> Expect:
+    """B005: the guard of idle,jointMove/t indexes emergencyStopCommand, a single Boolean of
+    ManipulatorCommand (generated C++ would not compile)."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "manipulatorCommand/ib.msg.emergencyStopCommand[2]"
+    return Expect(s.id(body.getparent()), "'emergencyStopCommand' is not an array")
+
+
+def guard_index_out_of_range(s: Sample) -> Expect:
+    """B005: the guard of idle,jointMove/t reads q[6] of JointPosition's q [6], one past its
+    last element q[5] (generated C++ would read out of bounds)."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "currentJointPos/m.data.q[6] > 0.5 ∧ ¬emergencyStop/pp.fun"
+    return Expect(s.id(body.getparent()), "index 6 is out of range: 'q' has 6 elements")
+
+
+def guard_is_a_composite(s: Sample) -> Expect:
+    """B005: the guard of idle,jointMove/t is the optional jointPosSetpoint of the command, a
+    composite value rather than a boolean or a number."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "manipulatorCommand/ib.msg.jointPosSetpoint ∧ ¬emergencyStop/pp.fun"
+    return Expect(s.id(body.getparent()), "is an optional value [0..1], not a boolean or a number")
+
+
 def exclusion_removed(s: Sample) -> Expect:
     """B006: ManipulatorControl's «Exclusion» jointOrOperational (newJointPos/pp and
     newOperationalPos/pp never hold together) is deleted: idle,jointMove/t and
@@ -1111,6 +1135,9 @@ VARIANTS: dict[str, Mutation] = {
     "B004": unreachable_state,
     "B005": guard_names_unknown_predicate,
     "B005-unknown-field": predicate_names_unknown_field,
+    "B005-index-not-array": guard_indexes_a_boolean,
+    "B005-index-out-of-range": guard_index_out_of_range,
+    "B005-not-a-condition": guard_is_a_composite,
     "B006": exclusion_removed,
     "B006-priority": self_transition_priority_removed,
     "B007": emergency_transition_removed,

@@ -179,16 +179,19 @@ def test_trace_command_errors(tmp_path: Path) -> None:
 
 @pytest.mark.skipif(shutil.which("g++") is None, reason="g++ is not installed")
 def test_a_broken_guard_s_gxx_error_is_traced_to_its_transition(tmp_path: Path) -> None:
-    """A guard indexing a Boolean field (check and gen accept it) makes g++ fail in the
-    generated header; its error, piped through trace -, names the transition and its line."""
-    guard = "<body>newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun</body>"
-    text = sample_text()
-    at = text.index(guard, text.index(f'name="{TRANSITION.rpartition(".")[2]}"'))
-    broken = tmp_path / "broken.uml"
-    broken.write_text(text[:at] + "<body>manipulatorCommand/ib.msg.emergencyStopCommand[2]</body>"
-                      + text[at + len(guard):], encoding="utf-8")
+    """A template override with a mistake (each guard calls a function the subsystem lacks)
+    makes g++ fail in the generated header; its first error, piped through trace -, names the
+    first transition and its line. (A model cannot make that mistake: check's B005 stops a
+    guard that would not compile, such as one indexing a Boolean field.)"""
+    templates = tmp_path / "templates"
+    templates.mkdir()
+    original = (ROOT / "transforms" / "cpp" / "templates" / "subsystem.hpp.j2").read_text(encoding="utf-8")
+    guard_return = "return {{ t.expr }}; }"
+    assert original.count(guard_return) == 1
+    (templates / "subsystem.hpp.j2").write_text(
+        original.replace(guard_return, "return {{ t.expr }} && ready(); }"), encoding="utf-8")
     out = tmp_path / "out"
-    assert earl("gen", str(broken), "-o", str(out), cwd=tmp_path).returncode == 0
+    assert earl("gen", str(SAMPLE), "-o", str(out), "--templates", str(templates), cwd=tmp_path).returncode == 0
     compiled = subprocess.run(["g++", "-std=c++17", "-fsyntax-only", "-Iruntime", "-Igenerated/include", "-Iuser",
                                "generated/src/manip_a_main.cpp"], cwd=out, capture_output=True, text=True,
                               env={**os.environ, "LC_ALL": "C"}, timeout=300)
@@ -200,7 +203,7 @@ def test_a_broken_guard_s_gxx_error_is_traced_to_its_transition(tmp_path: Path) 
     lines = traced.stdout.splitlines()
     assert lines[:len(compiled.stderr.splitlines()) + 1][0] == compiled.stderr.splitlines()[0]
     note = lines[lines.index(errors[0]) + 1]
-    guard_line = load(broken).model.subsystems[0].fsm.transitions[0].location.line  # type: ignore[union-attr]
+    guard_line = load(SAMPLE).model.subsystems[0].fsm.transitions[0].location.line  # type: ignore[union-attr]
     # the model is outside the folder trace runs in: named by its absolute path
-    assert note == (f"{broken}:{guard_line}: note: generated from transition {TRANSITION} "
+    assert note == (f"{SAMPLE}:{guard_line}: note: generated from transition {TRANSITION} "
                     "(xmi:id _HHeoiko3cY-WkdA1CTLXqg)")

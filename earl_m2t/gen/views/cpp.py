@@ -258,7 +258,7 @@ class _Builder:
         for pp in sub.predicates:
             pp_ids[pp.name] = scope.take(pp.name, "_base", "_")
             calls[pp.name] = f"{pp_ids[pp.name]}()"
-        symbols = Symbols(storage, calls, self.field_names)
+        symbols = Symbols(storage, calls, self.field_names, self.target.unbounded_capacity)
         compiler = ExprCompiler(self.model, sub, symbols)
         parsed: dict[str, Expr] = {}
 
