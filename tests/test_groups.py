@@ -13,11 +13,17 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from earl_m2t.api import check, load
+from earl_m2t.convert import to_sysml
+from earl_m2t.export import model_to_dict
 from earl_m2t.profile import load_profile
+from tests.test_sample_dialects_equal import without_location
 
 ROOT = Path(__file__).resolve().parents[1]
 HEATING = ROOT / "tests" / "fixtures" / "groups" / "heating.sysml"
+GUIDE_GROUPS = ROOT / "tests" / "fixtures" / "guide" / "groups.uml"  # Papyrus XMI
 
 
 def test_the_groups_are_concepts_of_the_profile_named_as_the_authors_do() -> None:
@@ -106,3 +112,39 @@ def test_the_guide_example_has_the_groups_in_papyrus_xmi() -> None:
     assert [(link.source, link.target) for link in system.links] == [
         ("supervisor/a.cs.command/ob", "kitchen/a.cs.command/ib")]
     assert check(example) == []
+
+
+def _in_the_system(tmp_path: Path) -> Path:
+    """heating.sysml with its Agent Group directly in the System (no robot: S001)."""
+    text = HEATING.read_text(encoding="utf-8")
+    text = text.replace("part 'house/r' : HouseHeating;", "part 'rooms/ga' : Rooms;")
+    text = text.replace("'house/r'.'rooms/ga'", "'rooms/ga'")
+    robot = "        part def HouseHeating :> Robot {\n            part 'rooms/ga' : Rooms;\n        }\n"
+    assert robot in text
+    path = tmp_path / "in_the_system.sysml"
+    path.write_text(text.replace(robot, ""), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("source", [HEATING, GUIDE_GROUPS, None], ids=["heating.sysml", "groups.uml", "in-the-system"])
+def test_convert_writes_the_groups_and_reads_back_as_the_same_model(source: Path | None, tmp_path: Path) -> None:
+    """Agent and Subsystem Groups are written as groups (``part def Rooms :> AgentGroup``), and
+    links reach through them: the converted text lifts to the same model, groups included."""
+    source = source or _in_the_system(tmp_path)
+    original = load(source).model
+    (system,) = original.systems
+    assert system.groups and any(a.groups for a in system.agents)  # both kinds of group to write
+    converted = tmp_path / "converted.sysml"
+    converted.write_text(to_sysml(original), encoding="utf-8")
+    text = converted.read_text(encoding="utf-8")
+    for group in system.groups:
+        assert f"part def {group.block} :> AgentGroup {{" in text
+        owner = system.name if group.owner == system.name else next(r.block for r in system.robots
+                                                                     if r.path == group.owner)
+        owner_body = text.split(f"part def {owner} :> ")[1].split("\n        }")[0]
+        assert f"part '{group.name}' : {group.block};" in owner_body
+    for group in (g for a in system.agents for g in a.groups):
+        assert f"part def {group.block} :> SubsystemGroup {{" in text
+    assert without_location(model_to_dict(load(converted).model)) == without_location(model_to_dict(original))
+    assert [(d.code, d.message) for d in check(converted)] == [(d.code, d.message) for d in check(source)]
+    assert to_sysml(load(converted).model) == text

@@ -22,6 +22,7 @@ from earl_m2t.model.elements import (
     Condition,
     DataType,
     EarlModel,
+    Group,
     Link,
     State,
     Subsystem,
@@ -114,26 +115,43 @@ class _View:
 
     def system(self, system: System) -> None:
         definition = self.block(system.name, "System")
+        group_of = {member: group for group in system.groups for member in group.members}
         parts = [(r.location.line, f"part {quoted(r.name)} : {quoted(r.block)};") for r in system.robots]
         parts += [(a.location.line, f"part {quoted(a.name)} : {quoted(a.block)};")
-                  for a in system.agents if not a.robot]
+                  for a in system.agents if not a.robot and a.path not in group_of]
+        parts += [(g.location.line, f"part {quoted(g.name)} : {quoted(g.block)};")
+                  for g in system.groups if g.owner == system.name]
         for robot in system.robots:
             robot_definition = self.block(robot.block, "Robot")
             if robot_definition is not None:
-                robot_definition.lines.extend(
-                    f"part {quoted(a.name)} : {quoted(a.block)};" for a in system.agents if a.robot == robot.path)
+                held = [(a.location.line, f"part {quoted(a.name)} : {quoted(a.block)};")
+                        for a in system.agents if a.robot == robot.path and a.path not in group_of]
+                held += [(g.location.line, f"part {quoted(g.name)} : {quoted(g.block)};")
+                         for g in system.groups if g.owner == robot.path]
+                robot_definition.lines.extend(line for _, line in sorted(held, key=lambda p: p[0]))
+        agents = {a.path: a for a in system.agents}
+        for group in system.groups:
+            self.agent_group(group, [agents[m] for m in group.members if m in agents])
         for agent in system.agents:
             self.agent(agent)
         if definition is None:
             return
         definition.lines.extend(line for _, line in sorted(parts, key=lambda p: p[0]))
-        agents = {a.path: a for a in system.agents}
-        ends = {b.path: self.system_end(agents[s.agent], s, b.template)
+        ends = {b.path: self.system_end(agents[s.agent], group_of.get(s.agent), s, b.template)
                 for a in system.agents for s in a.subsystems for b in s.buffers}
         definition.lines.extend(self.links(system.links, ends, "InterAgentLink"))
 
-    def system_end(self, agent: Agent, subsystem: Subsystem, buffer: str) -> str:
-        chain = ([agent.robot] if agent.robot else []) + [agent.name, subsystem.template, buffer]
+    def agent_group(self, group: Group, members: list[Agent]) -> None:
+        """An Agent Group's block: a part for each of its Agents."""
+        definition = self.block(group.block, "AgentGroup")
+        if definition is not None:
+            definition.lines.extend(f"part {quoted(a.name)} : {quoted(a.block)};" for a in members)
+
+    def system_end(self, agent: Agent, group: Group | None, subsystem: Subsystem, buffer: str) -> str:
+        """A buffer as the System reaches it: through the robot, Agent Group, agent and
+        Subsystem Group that hold it."""
+        chain = ([agent.robot] if agent.robot else []) + ([group.name] if group else []) + [agent.name]
+        chain += [g.name for g in agent.groups if subsystem.path in g.members] + [subsystem.template, buffer]
         return ".".join(quoted(c) for c in chain)
 
     def agent(self, agent: Agent) -> None:
@@ -142,13 +160,30 @@ class _View:
             return
         if agent.declared_type:
             definition.lines.append(f"attribute :>> declaredType = AgentType::{agent.declared_type};")
-        for template, subsystems in _grouped(agent.subsystems, lambda s: s.template):
-            first = subsystems[0]
-            count = f"[{len(subsystems)}]" if first.index else ""
-            definition.lines.append(f"part {quoted(template)} : {quoted(first.block)}{count};")
-            self.subsystem(first, len(subsystems))
-        ends = {b.path: f"{quoted(s.template)}.{quoted(b.template)}" for s in agent.subsystems for b in s.buffers}
+        group_of = {member: group for group in agent.groups for member in group.members}
+        for template, subsystems in _grouped(agent.subsystems, lambda s: group_of.get(s.path) or s.template):
+            group = group_of.get(subsystems[0].path)
+            if group is None:
+                definition.lines.append(self.subsystem_part(template, subsystems))
+                continue
+            definition.lines.append(f"part {quoted(group.name)} : {quoted(group.block)};")
+            group_definition = self.block(group.block, "SubsystemGroup")
+            for member_template, members in _grouped(subsystems, lambda s: s.template):
+                part = self.subsystem_part(member_template, members)
+                if group_definition is not None:
+                    group_definition.lines.append(part)
+        ends = {b.path: ".".join(quoted(c) for c in ([group_of[s.path].name] if s.path in group_of else [])
+                                 + [s.template, b.template])
+                for s in agent.subsystems for b in s.buffers}
         definition.lines.extend(self.links(agent.links, ends, "InterSubsystemLink"))
+
+    def subsystem_part(self, template: str, subsystems: list[Subsystem]) -> str:
+        """The part of a subsystem template (``'motorControllerK/ve' : MotorController[6]``),
+        its block written once."""
+        first = subsystems[0]
+        count = f"[{len(subsystems)}]" if first.index else ""
+        self.subsystem(first, len(subsystems))
+        return f"part {quoted(template)} : {quoted(first.block)}{count};"
 
     def links(self, links: tuple[Link, ...], ends: dict[str, str], concept: str) -> list[str]:
         lines = []
