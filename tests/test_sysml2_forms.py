@@ -22,9 +22,9 @@ def test_the_other_forms_of_the_subset_lift_as_documented() -> None:
     assert [(m.name, m.datatype, m.recognised_by) for m in cs.memory] == [("mode", "Mode", "stereotype")]
     assert model.datatypes["Level"].kind == "primitive" and model.datatypes["Mode"].literals == ("low", "high")
     assert [(f.name, f.type, f.lower, f.upper) for f in model.datatypes["Reading"].fields] == [
-        ("values", "Level", 0, 4), ("latest", "Level", 1, 1)]
+        ("values", "Level", 0, 4)]
     assert [(p.name, p.language, p.fun.text if p.fun else None) for p in cs.predicates] == [
-        ("high/pp", "EARL", "level/ib.msg.latest >= 3.5"), ("low/pp", "EARL", "¬newData(level/ib.msg.values)")]
+        ("high/pp", "EARL", "level/ib.msg.values[0] >= 3.5"), ("low/pp", "EARL", "¬newData(level/ib.msg.values)")]
     assert [(e.name, e.predicates) for e in cs.exclusions] == [("", ("high/pp", "low/pp"))]
     decide = cs.function("decide/pf")
     assert decide is not None and decide.body == "if (x) {\n    y();\n}"

@@ -11,7 +11,8 @@ from earl_m2t.sysml2.subset import subset
 
 _BASIC = re.compile(r"[A-Za-z_][A-Za-z_0-9]*\Z")
 _TOKEN = re.compile(
-    r"\s+|∧|∨|¬|&&|\|\||==|!=|<=|>=|[<>!(),]|[0-9]+(?:\.[0-9]+)?|[A-Za-z_][A-Za-z_0-9]*(?:/[A-Za-z_][A-Za-z_0-9]*)?|."
+    r"\s+|∧|∨|¬|&&|\|\||==|!=|<=|>=|[<>!(),]|\[[0-9]+\]|[0-9]+(?:\.[0-9]+)?"
+    r"|[A-Za-z_][A-Za-z_0-9]*(?:/[A-Za-z_][A-Za-z_0-9]*)?|."
 )
 _WORDS = {"∧": "and", "&&": "and", "and": "and", "∨": "or", "||": "or", "or": "or",
           "¬": "not ", "!": "not ", "not": "not ", "TRUE": "true", "FALSE": "false"}
@@ -54,6 +55,8 @@ def expression(text: str) -> str | None:
             parts.append(", ")
         elif token[0].isalpha() or token[0] == "_":
             parts.append(quoted(token) if "/" in token or token in subset().keywords else token)
+        elif token[0] == "[" and len(token) > 2:
+            parts.append(f"#({int(token[1:-1]) + 1})")  # `q[5]` → `q#(6)`: SysML v2 counts from 1
         elif token == "." or token in "()" or token[0].isdigit():
             parts.append(token)
         else:

@@ -6,7 +6,8 @@ A guard ``if 'newJointPos/pp'() and not 'emergencyStop/pp'()`` reads as the pred
 names lose their quotes, an invocation without arguments of a primitive predicate's
 ``calc def`` (``'x/pp'()``) is its function ``x/pp.fun``; comparisons, other invocations
 (``newData(x)``), feature chains (``'x/pp'.fun``, read as written) and parentheses stay as
-written.
+written; an element of a sequence, ``q#(6)`` (1-based), is the predicate language's ``q[5]``
+(0-based).
 """
 
 from __future__ import annotations
@@ -46,7 +47,8 @@ def predicate_text(expression: Any) -> str:
         arguments = ", ".join(predicate_text(a) for a in expression.arguments)
         return f"{_name(expression.function)}({arguments})"
     if kind == "FeatureReference":
-        return ".".join([_name(expression.name), *(_name(c) for c in expression.chain)])
+        steps = [(expression.name, expression.index), *((c.name, c.index) for c in expression.chain)]
+        return ".".join(_name(name) + _index(index) for name, index in steps)
     if kind == "LiteralBoolean":
         return "TRUE" if expression.value == "true" else "FALSE"
     if kind in ("LiteralInteger", "LiteralReal"):
@@ -56,3 +58,13 @@ def predicate_text(expression: Any) -> str:
 
 def _name(raw: str) -> str:
     return "::".join(name_segments(raw))
+
+
+def _index(suffix: Any) -> str:
+    """``#(n)``, whose first element is ``#(1)``, as the predicate language's ``[n - 1]``."""
+    if suffix is None:
+        return ""
+    position = int(suffix.value)
+    if position < 1:
+        raise NotACondition(f"#({suffix.value}): the elements of a sequence are numbered from 1")
+    return f"[{position - 1}]"

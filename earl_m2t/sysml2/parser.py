@@ -250,7 +250,7 @@ def literal_value(expression: Any) -> object:
         return expression.value == "true"
     if kind == "LiteralNull":
         return None
-    if kind == "FeatureReference" and not expression.chain:
+    if kind == "FeatureReference" and not expression.chain and expression.index is None:
         return "::".join(name_segments(expression.name))
     if kind == "UnaryExpression":
         operand = literal_value(expression.operand)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from earl_m2t.convert.names import expression, quoted
-from earl_m2t.sysml2.conditions import predicate_text
+from earl_m2t.sysml2.conditions import NotACondition, predicate_text
 from earl_m2t.sysml2.parser import members, parse_text, rule, unwrap
 from earl_m2t.sysml2.subset import outside_constructs
 from earl_m2t.sysml2.texts import representation_text
@@ -29,9 +29,17 @@ def condition(text: str) -> str:
     ("true or false", "TRUE ∨ FALSE"),
     ("'state/ib'.msg.speed >= 0.5", "state/ib.msg.speed >= 0.5"),
     ("newData('cmd/ib'.msg.setpoint)", "newData(cmd/ib.msg.setpoint)"),
+    # a sequence counts from 1 (#), the predicate language's index from 0
+    ("'pos/ib'.msg.q#(6) > 0.5", "pos/ib.msg.q[5] > 0.5"),
+    ("'cmd/ib'.msg.setpoint#(1).q#(2) < 1", "cmd/ib.msg.setpoint[0].q[1] < 1"),
 ])
 def test_a_sysml_v2_expression_reads_as_predicate_text(written: str, read: str) -> None:
     assert condition(written) == read
+
+
+def test_a_sequence_has_no_element_0() -> None:
+    with pytest.raises(NotACondition, match=r"#\(0\): the elements of a sequence are numbered from 1"):
+        condition("'pos/ib'.msg.q#(0) > 0.5")
 
 
 def test_two_names_without_an_operator_are_no_expression() -> None:
@@ -46,6 +54,8 @@ def test_two_names_without_an_operator_are_no_expression() -> None:
     "newData(manipulatorCommand/ib.msg.jointPosSetpoint)",
     "(a/pp.fun ∨ b/pp.fun) ∧ ¬c/pp.fun",
     "state/ib.msg.speed >= 0.5",
+    "pos/ib.msg.q[5] > 0.5",
+    "newData(cmd/ib.msg.setpoint[0].q[1])",
 ])
 def test_predicate_text_is_written_as_an_expression_that_reads_back_the_same(text: str) -> None:
     written = expression(text)
