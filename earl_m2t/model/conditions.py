@@ -27,6 +27,7 @@ from earl_m2t.predicate import (
     walk,
 )
 from earl_m2t.predicate.known import parsed
+from earl_m2t.predicate.unsayable import unsayable_reason
 
 NUMERIC = frozenset({"integer", "real"})
 TRUTH_VALUED = NUMERIC | {"boolean"}  # a number in a boolean place means "is not 0"
@@ -50,6 +51,10 @@ def parse_condition(condition: Condition) -> tuple[Expr | None, Problem | None]:
     """The parsed expression of a condition, or the B008 problem that stops it."""
     if not condition.text.strip():
         return None, Problem("B008", f"empty {_role(condition.role)}", condition.location)
+    reason = unsayable_reason(condition.text)
+    if reason is not None:
+        return None, Problem("B008", f"{_role(condition.role)} is not in the predicate language ({reason})",
+                             condition.location)
     result = _parse(condition.text)
     if isinstance(result, PredicateSyntaxError):
         loc = condition.location

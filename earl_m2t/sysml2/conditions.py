@@ -18,6 +18,8 @@ from earl_m2t.sysml2.parser import name_segments, rule
 
 OPERATORS = {"OrExpression": " ∨ ", "AndExpression": " ∧ "}
 UNARY = {"not": "¬", "-": "-", "+": "+", "~": "~"}
+# Expressions the predicate language has no form for, as the messages name them.
+NOT_CONDITIONS = {"LiteralString": "a string", "LiteralNull": "null"}
 # The function of a primitive predicate in the predicate language: `x/pp.fun`.
 FUNCTION = "fun"
 
@@ -53,7 +55,7 @@ def predicate_text(expression: Any) -> str:
         return "TRUE" if expression.value == "true" else "FALSE"
     if kind in ("LiteralInteger", "LiteralReal"):
         return str(expression.value)
-    raise NotACondition(f"{kind} is not a condition")
+    raise NotACondition(NOT_CONDITIONS.get(kind, kind))
 
 
 def _name(raw: str) -> str:

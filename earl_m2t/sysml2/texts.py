@@ -6,6 +6,7 @@ from __future__ import annotations
 import textwrap
 from typing import Any
 
+from earl_m2t.predicate.unsayable import unsayable
 from earl_m2t.sysml2.conditions import NotACondition, predicate_text
 from earl_m2t.sysml2.parser import (
     identification,
@@ -91,12 +92,12 @@ def result_expression(node: Any) -> tuple[str, int] | None:
 
 
 def _predicate(expression: Any) -> str:
-    """The predicate text of an expression; one the predicate language cannot say is kept as
-    ``<why>``, which the condition rules report as a syntax error (B008)."""
+    """The predicate text of an expression; one the predicate language cannot say is kept with
+    the reason (:mod:`earl_m2t.predicate.unsayable`), which rule B008 reports."""
     try:
         return predicate_text(unwrap(expression))
     except NotACondition as error:
-        return f"<{error}>"
+        return unsayable(str(error))
 
 
 def metadata_tags(node: Any) -> dict[str, str]:
