@@ -92,6 +92,8 @@ class ConditionResolver:
         for item in list(subsystem.buffers) + list(subsystem.memory):
             if item.index:
                 self._templates[item.template] = self._templates.get(item.template, 0) + 1
+        # instances of each replicated buffer or memory, by the stem of its template (``windingCurrentK``)
+        self._replicas = {_stem(template): count for template, count in self._templates.items()}
         # Everything a condition's problems depend on besides its text: subsystems alike in it
         # (replicated agents) share the answers, kept with the model (the data types are its own).
         self._signature = (frozenset(self._storage.items()), frozenset(self._memory.items()),
@@ -125,15 +127,17 @@ class ConditionResolver:
         shareable = _parse(text) is expr  # the answer belongs to the text only if expr is its parse
         known = self._known_problems.get(key) if shareable else None
         if known is None:
-            truth_places = _truth_places(expr)
+            truth_places, replicated = _places(expr)
             known = tuple((message, node.line, node.column) for node in walk(expr)
-                          for message in self._node_problems(node, id(node) in truth_places))
+                          for message in self._node_problems(node, id(node) in truth_places,
+                                                             id(node) in replicated))
             if shareable:
                 self._known_problems[key] = known
         return known
 
-    def _node_problems(self, node: Expr | Number, truth_place: bool) -> Iterator[str]:
-        """The problems of one node; ``truth_place``: its value is used as true or false."""
+    def _node_problems(self, node: Expr | Number, truth_place: bool, in_replication: bool) -> Iterator[str]:
+        """The problems of one node; ``truth_place``: its value is used as true or false;
+        ``in_replication``: it is in the template of a replication (where K names each instance)."""
         if isinstance(node, Replicated):
             if not self.replication_count(node):
                 yield ("replicated form names no replicated buffer or memory "
@@ -144,6 +148,8 @@ class ConditionResolver:
                 kind = self._field_kind(ref)
                 if kind is None:
                     yield f"unknown primitive predicate '{node.name}'"
+                elif message := self._instance_problem(node.name, in_replication):
+                    yield message
                 elif truth_place and kind not in TRUTH_VALUED:
                     yield _not_truth_valued(ref, kind)
         elif isinstance(node, NewData):
@@ -151,7 +157,7 @@ class ConditionResolver:
             if kind != "ib":
                 yield f"newData() needs an input buffer, '{node.ref.head}' is not one"
         elif isinstance(node, FieldRef):
-            message = self._check_field(node)
+            message = self._check_field(node) or self._instance_problem(node.head, in_replication)
             if message:
                 yield message
             elif truth_place and (kind := self._field_kind(node)) not in TRUTH_VALUED:
@@ -160,6 +166,26 @@ class ConditionResolver:
             for side in (node.left, node.right):
                 if isinstance(side, FieldRef) and self._field_kind(side) not in (None, *NUMERIC):
                     yield f"'{_text(side)}' is not numeric and cannot be compared"
+
+    def _instance_problem(self, head: str, in_replication: bool) -> str:
+        """What is wrong with naming a replicated buffer or memory so: an instance past its
+        multiplicity (``windingCurrent9/m`` of six), or the template (``windingCurrentK/m``)
+        outside a replication."""
+        stem = _stem(head)
+        if stem in self._replicas:
+            if in_replication:
+                return ""
+            first = f"{stem[:-1]}1{head[len(stem):]}"
+            return (f"'{head}' stands for each of {self._replicas[stem]} instances: name one, as in '{first}', "
+                    "or write a replication (any K: …, all K: …, or the paper's … form)")
+        template_stem = _stem(_template_head(head))
+        count = self._replicas.get(template_stem)
+        if count is None or stem in self._memory or head in self._storage:
+            return ""
+        index = int(stem[len(template_stem) - 1:])
+        if 1 <= index <= count:
+            return ""
+        return f"'{head}' is no instance of '{_template_head(head)}': its instances are numbered 1 to {count}"
 
     def _check_field(self, ref: FieldRef) -> str:
         head = ref.head
@@ -234,18 +260,21 @@ class ConditionResolver:
         return None
 
 
-def _truth_places(expr: Expr) -> set[int]:
-    """The ids of the nodes whose value is used as true or false: the whole condition, the
-    operands of ¬, ∧ and ∨, and the template of a replication."""
-    places = {id(expr)}
+def _places(expr: Expr) -> tuple[set[int], set[int]]:
+    """The ids of the nodes whose value is used as true or false (the whole condition, the
+    operands of ¬, ∧ and ∨, the template of a replication), and of the nodes inside the
+    template of a replication."""
+    truth = {id(expr)}
+    replicated: set[int] = set()
     for node in walk(expr):
         if isinstance(node, Not):
-            places.add(id(node.operand))
+            truth.add(id(node.operand))
         elif isinstance(node, (And, Or)):
-            places.update(id(operand) for operand in node.operands)
+            truth.update(id(operand) for operand in node.operands)
         elif isinstance(node, Replicated):
-            places.add(id(node.template))
-    return places
+            truth.add(id(node.template))
+            replicated.update(id(inner) for inner in walk(node.template))
+    return truth, replicated
 
 
 def _not_truth_valued(ref: FieldRef, kind: str | None) -> str:

@@ -664,6 +664,22 @@ def guard_is_a_composite(s: Sample) -> Expect:
     return Expect(s.id(body.getparent()), "is an optional value [0..1], not a boolean or a number")
 
 
+def guard_names_a_seventh_motor(s: Sample) -> Expect:
+    """B005: the guard of idle,jointMove/t reads motorControllerState7/ib, but ManipulatorControl
+    has six instances of motorControllerStateK/ib."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "motorControllerState7/ib.msg.motorPos > 0.5 ∧ ¬emergencyStop/pp.fun"
+    return Expect(s.id(body.getparent()), "its instances are numbered 1 to 6")
+
+
+def guard_names_the_template(s: Sample) -> Expect:
+    """B005: the guard of idle,jointMove/t reads windingCurrentK/m, the name of all six instances,
+    outside a replication (any K: …)."""
+    body = s.guard_body("ManipulatorControl", "idle,jointMove/t")
+    body.text = "windingCurrentK/m > 2.5 ∧ ¬emergencyStop/pp.fun"
+    return Expect(s.id(body.getparent()), "'windingCurrentK/m' stands for each of 6 instances")
+
+
 def exclusion_removed(s: Sample) -> Expect:
     """B006: ManipulatorControl's «Exclusion» jointOrOperational (newJointPos/pp and
     newOperationalPos/pp never hold together) is deleted: idle,jointMove/t and
@@ -1138,6 +1154,8 @@ VARIANTS: dict[str, Mutation] = {
     "B005-index-not-array": guard_indexes_a_boolean,
     "B005-index-out-of-range": guard_index_out_of_range,
     "B005-not-a-condition": guard_is_a_composite,
+    "B005-instance-out-of-range": guard_names_a_seventh_motor,
+    "B005-template-outside-replication": guard_names_the_template,
     "B006": exclusion_removed,
     "B006-priority": self_transition_priority_removed,
     "B007": emergency_transition_removed,
