@@ -3,7 +3,9 @@ generator or g++ would reject.
 
 Each row puts one condition in the guard of the sample's idle,jointMove/t (subsystem
 manip/a.cs) and says which rule must stop it, or None. Then every accepted condition goes
-into that guard at once (a conjunction), and the generated subsystem is compiled by g++.
+into that guard at once (a conjunction): the generated subsystem is compiled by g++, and the
+FABRIC specification of --target orocos is read by FABRIC's parser, whose logicExprToCpp
+conditions g++ compiles too.
 """
 
 from __future__ import annotations
@@ -17,8 +19,10 @@ from pathlib import Path
 
 import pytest
 
-from earl_m2t.api import check
+from earl_m2t.api import check, load
 from earl_m2t.cli.app import main
+from earl_m2t.gen import render
+from tests.support import fabric
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
@@ -100,6 +104,15 @@ def test_every_accepted_condition_compiles(tmp_path: Path) -> None:
     assert compiled.returncode == 0, compiled.stderr[-3000:]
     header = (out / "generated/include/PickAndPlace/manip_a/cs/subsystem.hpp").read_text(encoding="utf-8")
     assert "data_.currentJointPos_m.q[5]" in header and "jointPosSetpoint[0].q[5]" in header
+
+    spec = tmp_path / "subsystem.xml"
+    spec.write_bytes(render(load(path).model, "orocos").generated["fabric/manip_a_cs/spec/subsystem.xml"])
+    parsed = fabric.parse_spec(spec)
+    assert "currentJointPos_m_data_q_5_3" in parsed.predicates  # an atom of the guard, as FABRIC names it
+    work = tmp_path / "fabric"
+    work.mkdir()
+    conditions = fabric.compile_conditions(parsed, work)
+    assert conditions.returncode == 0, conditions.stderr[-3000:]
 
 
 if __name__ == "__main__":
