@@ -18,7 +18,7 @@ from earl_m2t.gen import engine, generate, render
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.trace import TRACE_FILE
 from earl_m2t.trace.lookup import SourceMaps
-from tests.diff.variants import ROOT, SAMPLE, sample_text
+from tests.diff.variants import ROOT, SAMPLE
 
 TRANSITION = "manip/a.cs.fsm.idle,jointMove/t"
 
