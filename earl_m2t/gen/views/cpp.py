@@ -16,7 +16,7 @@ from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.model.conditions import ConditionResolver, parse_condition
-from earl_m2t.model.elements import Activation, Buffer, Condition, DataType, EarlModel, Memory, Subsystem
+from earl_m2t.model.elements import Activation, Buffer, Condition, EarlModel, Memory, Subsystem
 from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, expand_replicated, walk
 
 Data = dict[str, Any]
