@@ -115,3 +115,36 @@ def test_a_constraint_without_a_formula_is_one_line(tmp_path: Path, capsys: pyte
     line = next(i for i, text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if "<body></body>" in text)
     assert code == 2
     assert err == f"earl-m2t: verify: {path}:{line}:1: the property estopLatches has no formula\n"
+
+
+@pytest.mark.parametrize(("body", "formula"), [
+    # Papyrus: the comment's text as written
+    ("<body>earl-m2t: ltl eventually: &lt;&gt; task/a.cs@supervise</body>", "<> task/a.cs@supervise"),
+    ("<body>earl-m2t: ltl same: [] (manip/a.cs@idle &lt;-&gt; manip/a.cs@idle)</body>",
+     "[] (manip/a.cs@idle <-> manip/a.cs@idle)"),
+    # an HTML note (Enterprise Architect): the tags go, the escaped operator stays
+    ("<body>&lt;p&gt;earl-m2t: ltl eventually: &amp;lt;&amp;gt; task/a.cs@supervise&lt;/p&gt;</body>",
+     "<> task/a.cs@supervise"),
+])
+def test_a_comment_directive_keeps_the_ltl_operators_that_look_like_markup(body: str, formula: str,
+                                                                           tmp_path: Path) -> None:
+    """``<>`` (eventually) and ``<->`` are no HTML tags: the formula reaches verify whole."""
+    text = SAMPLES["papyrus"].read_text(encoding="utf-8")
+    model = text.index("<uml:Model")
+    end = text.index(">", model) + 1
+    path = tmp_path / "model.uml"
+    path.write_text(text[:end] + f'<ownedComment xmi:type="uml:Comment" xmi:id="_ltl">{body}</ownedComment>'
+                    + text[end:], encoding="utf-8")
+    assert [p.text for p in load(path).properties][1:] == [formula]
+
+
+@pytest.mark.parametrize("dialect", sorted(SAMPLES))
+def test_show_lists_the_models_properties(dialect: str, capsys: pytest.CaptureFixture[str]) -> None:
+    (prop,) = load(SAMPLES[dialect]).properties
+    assert main(["show", str(SAMPLES[dialect])]) == 0
+    text = capsys.readouterr().out
+    assert text.endswith(f"ltl properties\n  estopLatches: {ESTOP}  (line {prop.location.line})\n")
+    assert main(["show", str(SAMPLES[dialect]), "--format", "json"]) == 0
+    shown = json.loads(capsys.readouterr().out)["ltl_properties"]
+    assert shown == [{"name": "estopLatches", "formula": ESTOP, "file": str(SAMPLES[dialect]),
+                      "line": prop.location.line}]

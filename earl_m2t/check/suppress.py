@@ -24,8 +24,10 @@ from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 # Linear in the comment's length however it is written: the code list is bounded (an unclosed
 # ``ignore[`` repeated along one line would otherwise be scanned to the line's end each time),
 # and a tag cannot hold ``<`` (an unclosed ``<`` would otherwise be scanned to the text's end).
+# A tag (of a tool's HTML notes) starts with a name, ``/`` or ``!``: the LTL operators ``<>`` and
+# ``<->`` of an ``earl-m2t: ltl`` directive written as plain text are no tags.
 DIRECTIVE = re.compile(r"earl-m2t:\s*ignore\[([^\]\n]{0,200})\]([^\n]*)")
-_TAG = re.compile(r"<[^<>]*>")
+_TAG = re.compile(r"</?[A-Za-z!][^<>]*>")
 
 
 @dataclass(frozen=True)

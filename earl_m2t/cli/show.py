@@ -36,7 +36,10 @@ def run(args: argparse.Namespace) -> int:
         print(exc.one_line(), file=sys.stderr)
         return 2
     if args.format == "json":
-        sys.stdout.write(json.dumps(model_to_dict(loaded.model), indent=2, ensure_ascii=False) + "\n")
+        document = model_to_dict(loaded.model)
+        document["ltl_properties"] = [{"name": p.title, "formula": p.text, "file": p.location.file,
+                                       "line": p.location.line} for p in loaded.properties]
+        sys.stdout.write(json.dumps(document, indent=2, ensure_ascii=False) + "\n")
     else:
-        sys.stdout.write(render_model(loaded.model))
+        sys.stdout.write(render_model(loaded.model, loaded.properties))
     return 0

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
 from typing import Any
@@ -19,6 +19,7 @@ from typing import Any
 from earl_m2t import resources
 from earl_m2t.model.elements import Condition, EarlModel
 from earl_m2t.model.location import Location
+from earl_m2t.verify.ltl import LtlProperty
 
 
 @dataclass(frozen=True)
@@ -66,8 +67,20 @@ class Node:
         return dict(self.values)
 
 
-def model_tree(model: EarlModel) -> Node:
-    return _node(model, "", "", "")
+def model_tree(model: EarlModel, properties: Sequence[LtlProperty] = ()) -> Node:
+    """The model as a tree; ``properties``, the LTL properties written in it (they are read
+    beside the lifted model, :mod:`earl_m2t.verify.directives`), are children of its root."""
+    root = _node(model, "", "", "")
+    if not properties:
+        return root
+    return dataclasses.replace(root, children=root.children + tuple(_property_node(p) for p in properties))
+
+
+def _property_node(prop: LtlProperty) -> Node:
+    """An LTL property, matched by the name the model gives it; its formula is compared."""
+    cls = type(prop).__name__
+    return Node(cls, presentation().kinds.get(cls, cls), prop.title, prop.title, prop.location.xmi_id, prop.location,
+                (("formula", prop.text),), ())
 
 
 def _identity(obj: Any) -> str | None:

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from itertools import groupby
 
 from earl_m2t.model.elements import Activation, Buffer, DataType, EarlModel, Group, Link, Subsystem
+from earl_m2t.verify.ltl import LtlProperty
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:
@@ -14,11 +16,20 @@ def _multiplicity(lower: int, upper: int | None) -> str:
     return f"[{upper_text}]" if lower == upper else f"[{lower}..{upper_text}]"
 
 
-def render_model(model: EarlModel) -> str:
+def render_model(model: EarlModel, properties: Sequence[LtlProperty] = ()) -> str:
+    """The outline; ``properties``, the LTL properties written in the model, come last."""
+    lines = _outline(model)
+    if properties:
+        lines.append("ltl properties")
+        lines.extend(f"  {p.title}: {p.text}  (line {p.location.line})" for p in properties)
+    return "\n".join(lines) + "\n"
+
+
+def _outline(model: EarlModel) -> list[str]:
     lines: list[str] = [f"model {model.name or '(unnamed)'}  ({model.dialect}) {model.file}"]
     if not model.has_earl_content:
         lines.append("  holds no EARL model: no System, Robot or Agent was recognised")
-        return "\n".join(lines) + "\n"
+        return lines
     if not model.systems:
         lines.append("  has EARL elements but no System block holding robots or agents")
     for system in model.systems:
@@ -43,7 +54,7 @@ def render_model(model: EarlModel) -> str:
     if model.datatypes:
         lines.append("datatypes")
         lines.extend(_datatype(d) for d in model.datatypes.values())
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _group(group: Group, indent: str) -> str:

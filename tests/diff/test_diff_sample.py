@@ -57,6 +57,21 @@ changed  transition manip/a.cs.fsm.idle,jointMove/t
 """
 
 
+def test_a_changed_ltl_property_shows_the_formula_before_and_after(tmp_path: Path) -> None:
+    """A review must see a weakened safety property, though no EARL element changed."""
+    assert diff_text(tmp_path, "weakened_property") == """\
+changed  LTL property estopLatches
+           formula: [] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop) → [] (manip/a.cs@emergencyStop -> <> manip/a.cs@idle)
+"""
+
+
+def test_an_ltl_property_added_as_a_comment_is_an_addition(tmp_path: Path) -> None:
+    assert diff_text(tmp_path, "property_comment_added") == """\
+added    LTL property taskSettles
+           formula: <> task/a.cs@supervise
+"""
+
+
 def test_changed_priority(tmp_path: Path) -> None:
     assert diff_text(tmp_path, "changed_priority") == """\
 changed  transition manip/a.cs.fsm.idle,emergencyStop/t

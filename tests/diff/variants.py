@@ -38,6 +38,23 @@ def changed_guard(text: str) -> str:
     return text[:at] + "<body>newJointPos/pp.fun</body>" + text[at + len(GUARD):]
 
 
+ESTOP_LATCHES = "<body>[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)</body>"
+
+
+def weakened_property(text: str) -> str:
+    """estopLatches no longer says the emergency stop latches, only that it is left for idle."""
+    assert text.count(ESTOP_LATCHES) == 1
+    return text.replace(ESTOP_LATCHES, "<body>[] (manip/a.cs@emergencyStop -> &lt;&gt; manip/a.cs@idle)</body>")
+
+
+def property_comment_added(text: str) -> str:
+    """A second property, as an ``earl-m2t: ltl`` comment of the model."""
+    model = text.index("<uml:Model")
+    end = text.index(">", model) + 1
+    return (text[:end] + '\n    <ownedComment xmi:type="uml:Comment" xmi:id="_ltlCommentAddedInTheVariant">'
+            "<body>earl-m2t: ltl taskSettles: &lt;&gt; task/a.cs@supervise</body></ownedComment>" + text[end:])
+
+
 def changed_priority(text: str) -> str:
     """idle,emergencyStop/t (the first with priority 2) gets priority 3."""
     old = 'base_Transition="_lXeK7HEi-YLOWkH1lRRG-g" priority="2"'
