@@ -46,6 +46,7 @@ CONDITIONS: list[tuple[str, str | None]] = [
     ("windingCurrent1/m == windingCurrent2/m", None),
     ("1.5e3 < windingCurrent6/m", None),
     ("any K: windingCurrentK/m > 2", None),
+    ("any K: windingCurrentK/mi.data > 2", None),  # /m, /mi and /mo name the same replicated memory
     ("all K: motorControllerStateK/ib.msg.emergencyStopCommand", None),
     ("motorControllerState1/ib.msg.emergencyStopCommand ∨ … ∨ motorControllerStateN/ib.msg.emergencyStopCommand",
      None),

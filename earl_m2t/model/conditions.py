@@ -88,16 +88,16 @@ class ConditionResolver:
             for key in (mem.name, mem.template):
                 self._memory.setdefault(_stem(key), mem.datatype)
         self._predicate_names = frozenset(p.name for p in subsystem.predicates)
-        self._templates: dict[str, int] = {}
+        # instances of each replicated buffer or memory, by _replica_key of its template
+        self._replicas: dict[str, int] = {}
         for item in list(subsystem.buffers) + list(subsystem.memory):
             if item.index:
-                self._templates[item.template] = self._templates.get(item.template, 0) + 1
-        # instances of each replicated buffer or memory, by the stem of its template (``windingCurrentK``)
-        self._replicas = {_stem(template): count for template, count in self._templates.items()}
+                key = _replica_key(item.template)
+                self._replicas[key] = self._replicas.get(key, 0) + 1
         # Everything a condition's problems depend on besides its text: subsystems alike in it
         # (replicated agents) share the answers, kept with the model (the data types are its own).
         self._signature = (frozenset(self._storage.items()), frozenset(self._memory.items()),
-                           self._predicate_names, frozenset(self._templates.items()))
+                           self._predicate_names, frozenset(self._replicas.items()))
         shared = model.derived.setdefault(_PROBLEMS_KEY, {})
         self._known_problems: dict[tuple[object, str], tuple[tuple[str, int, int], ...]] = shared  # type: ignore[assignment]
 
@@ -110,7 +110,7 @@ class ConditionResolver:
         return None
 
     def replication_count(self, node: Replicated) -> int:
-        counts = {self._templates.get(_template_head(ref.head), 0)
+        counts = {self._replicas.get(_replica_key(_template_head(ref.head)), 0)
                   for ref in walk(node.template) if isinstance(ref, FieldRef)}
         counts.discard(0)
         return counts.pop() if len(counts) == 1 else 0
@@ -172,17 +172,17 @@ class ConditionResolver:
         multiplicity (``windingCurrent9/m`` of six), or the template (``windingCurrentK/m``)
         outside a replication."""
         stem = _stem(head)
-        if stem in self._replicas:
+        if _replica_key(head) in self._replicas:
             if in_replication:
                 return ""
             first = f"{stem[:-1]}1{head[len(stem):]}"
-            return (f"'{head}' stands for each of {self._replicas[stem]} instances: name one, as in '{first}', "
-                    "or write a replication (any K: …, all K: …, or the paper's … form)")
-        template_stem = _stem(_template_head(head))
-        count = self._replicas.get(template_stem)
+            return (f"'{head}' stands for each of {self._replicas[_replica_key(head)]} instances: name one, "
+                    f"as in '{first}', or write a replication (any K: …, all K: …, or the paper's … form)")
+        template = _template_head(head)
+        count = self._replicas.get(_replica_key(template))
         if count is None or stem in self._memory or head in self._storage:
             return ""
-        index = int(stem[len(template_stem) - 1:])
+        index = int(stem[len(_stem(template)) - 1:])
         if 1 <= index <= count:
             return ""
         return f"'{head}' is no instance of '{_template_head(head)}': its instances are numbered 1 to {count}"
@@ -309,6 +309,13 @@ def _kind(datatype: DataType | None) -> str | None:
 
 def _stem(name: str) -> str:
     return name.rpartition("/")[0] if "/" in name else name
+
+
+def _replica_key(name: str) -> str:
+    """How a replicated buffer or memory is looked up: a buffer by its name (``stateK/ib``), a
+    memory by its stem, as ``windingCurrentK/m``, ``/mi`` and ``/mo`` name the same memory."""
+    suffix = name.rpartition("/")[2] if "/" in name else ""
+    return name if suffix in ("ib", "ob") else _stem(name)
 
 
 def _template_head(head: str) -> str:
