@@ -22,11 +22,9 @@ import pytest
 from earl_m2t.api import check, load
 from earl_m2t.cli.app import main
 from earl_m2t.gen import render
+from tests.diff.variants import sample_text, with_guard_body
 from tests.support import fabric
 
-ROOT = Path(__file__).resolve().parents[1]
-SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
-GUARD = "<body>newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun</body>"
 TRANSITION = "manip/a.cs.fsm.idle,jointMove/t"
 
 # manip/a.cs: manipulatorCommand/ib (jointPosSetpoint [0..1] of JointPosition {q: Real [6]},
@@ -74,11 +72,8 @@ CONDITIONS: list[tuple[str, str | None]] = [
 
 
 def with_guard(condition: str, folder: Path) -> Path:
-    text = SAMPLE.read_text(encoding="utf-8")
-    at = text.index(GUARD, text.index(f'name="{TRANSITION.rpartition(".")[2]}"'))
     path = folder / "model.uml"
-    path.write_text(text[:at] + f"<body>{html.escape(condition, quote=False)}</body>" + text[at + len(GUARD):],
-                    encoding="utf-8")
+    path.write_text(with_guard_body(sample_text(), html.escape(condition, quote=False)), encoding="utf-8")
     return path
 
 

@@ -11,6 +11,7 @@ import pytest
 
 from earl_m2t.api import load
 from earl_m2t.cli.app import main
+from tests.diff.variants import with_model_comment
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE_DIR = ROOT / "samples" / "pick_and_place"
@@ -129,12 +130,9 @@ def test_a_constraint_without_a_formula_is_one_line(tmp_path: Path, capsys: pyte
 def test_a_comment_directive_keeps_the_ltl_operators_that_look_like_markup(body: str, formula: str,
                                                                            tmp_path: Path) -> None:
     """``<>`` (eventually) and ``<->`` are no HTML tags: the formula reaches verify whole."""
-    text = SAMPLES["papyrus"].read_text(encoding="utf-8")
-    model = text.index("<uml:Model")
-    end = text.index(">", model) + 1
     path = tmp_path / "model.uml"
-    path.write_text(text[:end] + f'<ownedComment xmi:type="uml:Comment" xmi:id="_ltl">{body}</ownedComment>'
-                    + text[end:], encoding="utf-8")
+    path.write_text(with_model_comment(SAMPLES["papyrus"].read_text(encoding="utf-8"), "_ltl", body),
+                    encoding="utf-8")
     assert [p.text for p in load(path).properties][1:] == [formula]
 
 

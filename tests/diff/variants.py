@@ -31,11 +31,16 @@ def renamed_state(text: str) -> str:
     return text.replace(IDLE_STATE, IDLE_STATE.replace('"idle"', '"waiting"'))
 
 
-def changed_guard(text: str) -> str:
-    """idle,jointMove/t no longer waits for the emergency stop to be released."""
+def with_guard_body(text: str, body: str) -> str:
+    """The sample with ``body`` (XML text) as the guard of manip/a.cs's idle,jointMove/t."""
     start = text.index('name="idle,jointMove/t"')
     at = text.index(GUARD, start)
-    return text[:at] + "<body>newJointPos/pp.fun</body>" + text[at + len(GUARD):]
+    return text[:at] + f"<body>{body}</body>" + text[at + len(GUARD):]
+
+
+def changed_guard(text: str) -> str:
+    """idle,jointMove/t no longer waits for the emergency stop to be released."""
+    return with_guard_body(text, "newJointPos/pp.fun")
 
 
 ESTOP_LATCHES = "<body>[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)</body>"
@@ -47,12 +52,18 @@ def weakened_property(text: str) -> str:
     return text.replace(ESTOP_LATCHES, "<body>[] (manip/a.cs@emergencyStop -> &lt;&gt; manip/a.cs@idle)</body>")
 
 
-def property_comment_added(text: str) -> str:
-    """A second property, as an ``earl-m2t: ltl`` comment of the model."""
+def with_model_comment(text: str, xmi_id: str, body: str) -> str:
+    """The Papyrus sample with a comment of the model whose ``<body>`` element is ``body``."""
     model = text.index("<uml:Model")
     end = text.index(">", model) + 1
-    return (text[:end] + '\n    <ownedComment xmi:type="uml:Comment" xmi:id="_ltlCommentAddedInTheVariant">'
-            "<body>earl-m2t: ltl taskSettles: &lt;&gt; task/a.cs@supervise</body></ownedComment>" + text[end:])
+    return (text[:end] + f'\n    <ownedComment xmi:type="uml:Comment" xmi:id="{xmi_id}">{body}</ownedComment>'
+            + text[end:])
+
+
+def property_comment_added(text: str) -> str:
+    """A second property, as an ``earl-m2t: ltl`` comment of the model."""
+    return with_model_comment(text, "_ltlCommentAddedInTheVariant",
+                              "<body>earl-m2t: ltl taskSettles: &lt;&gt; task/a.cs@supervise</body>")
 
 
 def changed_priority(text: str) -> str:
