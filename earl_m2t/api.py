@@ -6,19 +6,15 @@ from collections.abc import Sequence
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from earl_m2t.check.engine import CheckOptions, check_model, deduplicate
 from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift import lift
+from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.read.xmi import load_raw_model
 from earl_m2t.shorten import shortened_words
 from earl_m2t.sysml2.files import is_sysml2
-
-if TYPE_CHECKING:
-    from earl_m2t.check.suppress import Suppression
-    from earl_m2t.verify.ltl import LtlProperty
 
 
 @dataclass(frozen=True)
@@ -27,8 +23,11 @@ class Loaded:
 
     model: EarlModel
     diagnostics: tuple[Diagnostic, ...]
-    suppressions: tuple[Suppression, ...] = ()  # the model's ``earl-m2t: ignore[…]`` comments
-    properties: tuple[LtlProperty, ...] = ()  # the model's «LtlProperty» constraints and ``earl-m2t: ltl`` comments (verify)
+
+    @property
+    def properties(self) -> tuple[LtlProperty, ...]:
+        """The model's «LtlProperty» constraints and ``earl-m2t: ltl`` comments (verify)."""
+        return self.model.properties
 
 
 def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path | str] = ()) -> Loaded:
@@ -38,8 +37,7 @@ def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path |
     ``profiles`` are Enterprise Architect profile or MDG Technology files of profiles that
     specialise EARL; such files beside the model are read as well (docs/modelling-guide.md).
     """
-    from earl_m2t.check.suppress import read_suppressions
-    from earl_m2t.verify.directives import read_properties
+    from earl_m2t.predicate.known import save as save_parsed_predicates
     from earl_m2t.profile import load_profile
     from earl_m2t.stereotypes.discover import vocabulary_for
 
@@ -52,7 +50,8 @@ def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path |
     else:
         raw = load_raw_model(file, dialect)
     result = lift(raw, vocabulary=vocabulary)
-    return Loaded(result.model, result.diagnostics, read_suppressions(raw), read_properties(raw))
+    save_parsed_predicates()
+    return Loaded(result.model, result.diagnostics)
 
 
 def check(path: Path | str, options: CheckOptions | None = None, dialect: str | None = None) -> list[Diagnostic]:
@@ -65,7 +64,6 @@ def check(path: Path | str, options: CheckOptions | None = None, dialect: str | 
 def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
     from earl_m2t.check.registry import catalogue
     from earl_m2t.check.suppress import apply_suppressions
-    from earl_m2t.predicate.known import save as save_parsed_predicates
 
     rules = catalogue()
     reader_findings = [
@@ -75,8 +73,7 @@ def check_loaded(loaded: Loaded, options: CheckOptions) -> list[Diagnostic]:
         if options.enabled(d.code)
     ]
     found = deduplicate(reader_findings + check_model(loaded.model, options))
-    kept = apply_suppressions(found, loaded.suppressions, loaded.model, options)
-    save_parsed_predicates()
+    kept = apply_suppressions(found, loaded.model, options)
     return sorted((_readable(d) for d in kept), key=Diagnostic.sort_key)
 
 

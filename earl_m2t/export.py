@@ -9,13 +9,13 @@ import math
 from contextvars import ContextVar
 from typing import Any
 
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
     Activation,
     Agent,
     BasicBehaviour,
     Buffer,
-    Condition,
-    DataType,
     EarlModel,
     Fsm,
     Group,

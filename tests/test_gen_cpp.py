@@ -22,8 +22,9 @@ from earl_m2t.api import load  # noqa: E402
 from earl_m2t.gen import GenError, generate, render  # noqa: E402
 from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols  # noqa: E402
 from earl_m2t.gen.names import Scope, cpp_identifier  # noqa: E402
-from earl_m2t.model.conditions import parse_condition  # noqa: E402
-from earl_m2t.model.elements import Condition, EarlModel  # noqa: E402
+from earl_m2t.lift.conditions import ConditionLifter  # noqa: E402
+from earl_m2t.model.conditions import Condition, ConditionRole  # noqa: E402
+from earl_m2t.model.elements import EarlModel  # noqa: E402
 from earl_m2t.model.location import Location  # noqa: E402
 from earl_m2t.model.naming import _table  # noqa: E402
 
@@ -232,9 +233,11 @@ def _compiled(text: str, owner: str = "manip/a.cs", model: EarlModel | None = No
                 for m in sub.memory}
     calls = {p.name: f"{p.name.split('/')[0]}_pp()" for p in sub.predicates}
     compiler = ExprCompiler(model, sub, Symbols(storage, calls, field_names, unbounded_capacity=16))
-    expr, problem = parse_condition(Condition(text, "EARL", Location("x"), owner, "ic"))
-    assert expr is not None, problem
-    return compiler.compile(expr, "test")
+    assert sub.scope is not None
+    condition = ConditionLifter(model.datatypes).resolve(Condition(text, "EARL", Location("x"), owner, ConditionRole.IC),
+                                                         sub.scope)
+    assert condition is not None and condition.expr is not None, condition
+    return compiler.compile(condition, "test")
 
 
 def test_conditions_compile_from_the_parsed_expression() -> None:

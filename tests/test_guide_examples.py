@@ -16,7 +16,6 @@ from types import ModuleType
 import pytest
 
 from earl_m2t import Loaded, Severity, check, load
-from earl_m2t.model.conditions import ConditionResolver, conditions_of, parse_condition
 from earl_m2t.model.elements import EarlModel, Subsystem
 from earl_m2t.predicate import And, Const, Not, Or, PredicateRef, Replicated, parse_predicate, walk
 
@@ -483,13 +482,13 @@ def test_an_end_with_one_instance_fans_out_to_every_instance_of_the_other_end() 
 def test_replicated_predicate_forms_range_over_every_instance() -> None:
     model = lifted("replication.uml")
     cs = subsystem("replication.uml", "manip/a.cs")
-    resolver = ConditionResolver(model, cs)
+    assert cs.scope is not None
     for name, op in (("anyStop/pp", "or"), ("eachStop/pp", "or"), ("allStopped/pp", "and")):
         pp = cs.predicate(name)
         assert pp is not None and pp.fun is not None
         expr = parse_predicate(pp.fun.text)
         replicated = [n for n in walk(expr) if isinstance(n, Replicated)]
-        assert [(r.op, resolver.replication_count(r)) for r in replicated] == [(op, 3)], name
+        assert [(r.op, cs.scope.replication_count(r)) for r in replicated] == [(op, 3)], name
     assert parse_predicate(cs.predicate("anyStop/pp").fun.text) == parse_predicate(  # type: ignore[union-attr]
         cs.predicate("eachStop/pp").fun.text  # type: ignore[union-attr]
     )
@@ -689,11 +688,8 @@ def test_an_opaque_behaviour_may_be_a_primitive_predicate() -> None:
 def test_every_condition_of_the_examples_parses_and_names_known_elements(name: str) -> None:
     model = lifted(name)
     for sub in model.definitions():
-        resolver = ConditionResolver(model, sub)
-        for condition in conditions_of(sub):
-            expr, problem = parse_condition(condition)
-            assert problem is None and expr is not None, condition
-            assert list(resolver.problems(expr, condition)) == [], condition
+        for condition in sub.conditions():
+            assert condition.expr is not None and condition.problems == (), condition
     assert codes(name) & {"B005", "B008"} == set()
 
 

@@ -117,8 +117,8 @@ def _show_and_convert(loaded: Loaded, outputs: Outputs) -> None:
     document["ltl_properties"] = [{"name": p.title, "formula": p.text, "file": p.location.file,
                                    "line": p.location.line} for p in loaded.properties]
     outputs["show.json"] = json.dumps(document, indent=2, ensure_ascii=False).encode("utf-8")
-    outputs["show.txt"] = render_model(loaded.model, loaded.properties).encode("utf-8")
-    outputs["convert.sysml"] = to_sysml(loaded.model, tuple((p.title, p.text) for p in loaded.properties)).encode()
+    outputs["show.txt"] = render_model(loaded.model).encode("utf-8")
+    outputs["convert.sysml"] = to_sysml(loaded.model).encode()
 
 
 def _verify(loaded: Loaded, outputs: Outputs) -> None:

@@ -11,12 +11,15 @@ primitive predicates and atoms written in it, which counterexamples are printed 
 from __future__ import annotations
 
 import operator
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
-from earl_m2t.model.conditions import ConditionResolver, parse_condition
-from earl_m2t.model.elements import Condition, EarlModel, Subsystem
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.elements import Subsystem
+from earl_m2t.model.naming import split
+from earl_m2t.model.scope import Scope
 from earl_m2t.predicate import (
     And,
     Compare,
@@ -29,9 +32,7 @@ from earl_m2t.predicate import (
     Or,
     PredicateRef,
     Replicated,
-    expand_replicated,
     format_predicate,
-    split_name,
 )
 
 _MEMORY = frozenset({"m", "mi", "mo"})
@@ -64,12 +65,13 @@ class Formula:
 class Expander:
     """Expands the conditions of one subsystem; results are cached per primitive predicate."""
 
-    def __init__(self, model: EarlModel, subsystem: Subsystem) -> None:
+    def __init__(self, subsystem: Subsystem, datatypes: Mapping[str, DataType]) -> None:
+        assert subsystem.scope is not None, "a lifted subsystem"
         self.subsystem = subsystem
-        self.resolver = ConditionResolver(model, subsystem)
+        self.scope: Scope = subsystem.scope
+        self.datatypes = datatypes
         self._predicates: dict[str, Expr | None] = {}
         self._expanding: list[str] = []
-        self._parsed: dict[int, Expr | None] = {}  # by id of the Condition
 
     def condition(self, condition: Condition | None, missing: bool) -> Formula | None:
         """The formula of a condition (``missing`` is the value of an absent one), or None
@@ -78,14 +80,14 @@ class Expander:
             return Formula(Const(missing), ())
         try:
             terms: dict[str, Term] = {}
-            expr = self._expand(self._parse(condition), terms)
+            expr = self._expand(self._resolved(condition), terms)
         except Unanalysable:
             return None
         return Formula(expr, tuple(terms.values()))
 
     def predicate(self, name: str) -> Expr | None:
         """The expanded body of a primitive predicate (an opaque atom for user code)."""
-        resolved = self.resolver.predicate(name)
+        resolved = self.scope.predicate(name)
         if resolved is None:
             return None
         try:
@@ -94,27 +96,16 @@ class Expander:
             return None
 
     def field_kind(self, ref: FieldRef) -> str | None:
-        return self.resolver.field_kind(ref)
+        return self.scope.field_kind(ref, self.datatypes)
 
     # -- internals ---------------------------------------------------------------------
 
-    def _parse(self, condition: Condition) -> Expr:
-        key = id(condition)
-        if key not in self._parsed:
-            self._parsed[key] = self._parse_once(condition)
-        parsed = self._parsed[key]
-        if parsed is None:
+    @staticmethod
+    def _resolved(condition: Condition) -> Expr:
+        resolved = condition.resolved
+        if resolved is None:
             raise Unanalysable(condition.owner)
-        return parsed
-
-    def _parse_once(self, condition: Condition) -> Expr | None:
-        expr, problem = parse_condition(condition)
-        if expr is None or problem is not None:
-            return None
-        if next(iter(self.resolver.problems(expr, condition)), None) is not None:
-            return None
-        counts = self.resolver.replication_count
-        return expand_replicated(expr, lambda node: counts(node) or None)
+        return resolved
 
     def _predicate(self, name: str) -> Expr:
         if name in self._expanding:  # a cycle of bodies: the inner reference stays opaque
@@ -131,7 +122,7 @@ class Expander:
         else:
             self._expanding.append(name)
             try:
-                result = self._expand(self._parse(pp.fun), None)
+                result = self._expand(self._resolved(pp.fun), None)
             except Unanalysable:
                 result = None
             finally:
@@ -151,11 +142,11 @@ class Expander:
         if isinstance(node, Replicated):
             raise Unanalysable("replication")
         if isinstance(node, PredicateRef):
-            name = self.resolver.predicate(node.name)
+            name = self.scope.predicate(node.name)
             if name is not None:
                 expr = self._predicate(name)
                 if terms is not None:
-                    terms.setdefault(split_name(name)[0], Term(split_name(name)[0], expr))
+                    terms.setdefault(split(name)[0], Term(split(name)[0], expr))
                 return expr
             node_as_field: Expr = FieldRef(node.name)
             atom = _atom(node_as_field)
@@ -189,7 +180,7 @@ def _operand(operand: FieldRef | Number) -> FieldRef | Number:
 
 
 def _field(ref: FieldRef) -> FieldRef:
-    base, suffix = split_name(ref.head)
+    base, suffix = split(ref.head)
     if suffix in _MEMORY:
         member = "data" if ref.member in ("msg", "data") else ref.member
         return FieldRef(f"{base}/m", member, ref.path)

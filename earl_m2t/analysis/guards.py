@@ -25,13 +25,14 @@ and respects the constraints satisfies the formula).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from itertools import combinations
 
 from earl_m2t.analysis.cnf import Cnf
 from earl_m2t.analysis.expand import Expander, Formula, Term
-from earl_m2t.model.elements import BasicBehaviour, EarlModel, State, Subsystem, Transition
+from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.elements import BasicBehaviour, State, Subsystem, Transition
 from earl_m2t.predicate import And, Compare, Const, Expr, FieldRef, Not, Number, Or
 
 MAX_OVERLAPS_PER_STATE = 20  # B006 reports this many pairs of one state, then says it stopped
@@ -60,9 +61,9 @@ class Gap:
 class GuardAnalysis:
     """The guards, terminal and error conditions of one subsystem, encoded once."""
 
-    def __init__(self, model: EarlModel, subsystem: Subsystem) -> None:
+    def __init__(self, subsystem: Subsystem, datatypes: Mapping[str, DataType]) -> None:
         self.subsystem = subsystem
-        self.expander = Expander(model, subsystem)
+        self.expander = Expander(subsystem, datatypes)
         self.cnf = Cnf()
         self._formulas: dict[str, tuple[Formula, int] | None] = {}
         fsm = subsystem.fsm

@@ -10,11 +10,15 @@ answers are mapped, by position, onto each subsystem that has it.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis
-from earl_m2t.model.conditions import conditions_of
-from earl_m2t.model.elements import Condition, EarlModel, Subsystem, Transition
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.elements import EarlModel, Subsystem, Transition
+from earl_m2t.model.memo import PerModel
+from earl_m2t.model.naming import stem
 
 Signature = tuple[object, ...]
 
@@ -41,17 +45,43 @@ class _Answers:
     gaps: dict[int, tuple[tuple[int, ...], str] | None] = field(default_factory=dict)
 
 
+@dataclass
+class ModelGuards:
+    """The guard analyses of one model: one per distinct signature, one view per subsystem block."""
+
+    datatypes: Mapping[str, DataType]
+    answers: dict[Signature, _Answers] = field(default_factory=dict)
+    by_block: dict[str, SharedGuards] = field(default_factory=dict)
+    shapes: dict[str, object] = field(default_factory=dict)  # _shape of each dataType
+
+
+_MODEL_GUARDS = PerModel(lambda model: ModelGuards(model.datatypes))
+
+
+def model_guards(model: EarlModel) -> ModelGuards:
+    return _MODEL_GUARDS(model)
+
+
+def shared_guards(model: EarlModel, subsystem: Subsystem) -> SharedGuards:
+    """The guard findings of a subsystem (with an FSM), analysed once per model and signature."""
+    guards = model_guards(model)
+    found = guards.by_block.get(subsystem.block_id)
+    if found is None:
+        found = guards.by_block[subsystem.block_id] = SharedGuards(guards, subsystem)
+    return found
+
+
 class SharedGuards:
     """The guard findings of one subsystem, answered from any subsystem with the same signature."""
 
-    def __init__(self, model: EarlModel, subsystem: Subsystem) -> None:
+    def __init__(self, guards: ModelGuards, subsystem: Subsystem) -> None:
         assert subsystem.fsm is not None
         self.subsystem = subsystem
         self._transitions = subsystem.fsm.transitions
-        key = ("guard-answers", signature(model, subsystem))
-        answers = model.derived.get(key)
-        if not isinstance(answers, _Answers):
-            answers = model.derived[key] = _Answers(GuardAnalysis(model, subsystem))
+        key = signature(guards, subsystem)
+        answers = guards.answers.get(key)
+        if answers is None:
+            answers = guards.answers[key] = _Answers(GuardAnalysis(subsystem, guards.datatypes))
         self._answers = answers
 
     def overlaps(self, position: int) -> tuple[StateOverlap, ...]:
@@ -83,7 +113,7 @@ class SharedGuards:
         return StateGap(tuple(self._transitions[i] for i in answer[0]), answer[1])
 
 
-def signature(model: EarlModel, subsystem: Subsystem) -> Signature:
+def signature(guards: ModelGuards, subsystem: Subsystem) -> Signature:
     """Everything the guard analysis of a subsystem reads, with its own names and no locations.
 
     Buffers and memory count only when a condition could name them (their name or template
@@ -93,12 +123,10 @@ def signature(model: EarlModel, subsystem: Subsystem) -> Signature:
     fsm = subsystem.fsm
     assert fsm is not None
     rank = {id(t): i for i, t in enumerate(sorted(fsm.transitions, key=lambda t: t.order))}
-    texts = "\n".join(c.text for c in conditions_of(subsystem))
-    shapes = model.derived.setdefault(("datatype-shapes",), {})
-    assert isinstance(shapes, dict)
+    texts = "\n".join(c.text for c in subsystem.conditions())
 
     def named(*names: str) -> bool:
-        return any(_stem(name) in texts for name in names)
+        return any(stem(name) in texts for name in names)
 
     return (
         tuple((s.name, s.behaviours) for s in fsm.states),
@@ -106,34 +134,31 @@ def signature(model: EarlModel, subsystem: Subsystem) -> Signature:
         tuple((b.name, _text(b.tc), _text(b.ec)) for b in subsystem.behaviours),
         tuple((p.name, _text(p.fun)) for p in subsystem.predicates),
         tuple(e.predicates for e in subsystem.exclusions),
-        tuple((b.name, b.template, b.direction, b.index, _shape(model, b.datatype, shapes, ()))
+        tuple((b.name, b.template, b.direction, b.index, _shape(guards, b.datatype, ()))
               for b in subsystem.buffers if named(b.name, b.template)),
-        tuple((m.name, m.template, m.index, _shape(model, m.datatype, shapes, ()))
+        tuple((m.name, m.template, m.index, _shape(guards, m.datatype, ()))
               for m in subsystem.memory if named(m.name, m.template)),
     )
 
 
-def _shape(model: EarlModel, key: str, shapes: dict[str, object], visiting: tuple[str, ...]) -> object:
+def _shape(guards: ModelGuards, key: str, visiting: tuple[str, ...]) -> object:
     """A data type as the guard analysis sees it: primitive kinds, and fields by name."""
+    shapes = guards.shapes
     if key in shapes:
         return shapes[key]
-    datatype = model.datatypes.get(key)
+    datatype = guards.datatypes.get(key)
     if key in visiting:
         return ("cycle", key)
     if datatype is None:
         shape: object = ("unknown",)
     elif datatype.kind == "struct":
-        shape = ("struct", tuple((f.name, f.lower, f.upper, _shape(model, f.type, shapes, (*visiting, key)))
+        shape = ("struct", tuple((f.name, f.lower, f.upper, _shape(guards, f.type, (*visiting, key)))
                                  for f in datatype.fields))
     else:
         shape = (datatype.kind, datatype.primitive)
     if not visiting:
         shapes[key] = shape
     return shape
-
-
-def _stem(name: str) -> str:
-    return name.rpartition("/")[0] if "/" in name else name
 
 
 def _text(condition: Condition | None) -> str | None:

@@ -1,69 +1,25 @@
-"""Suppressions written in the model: a comment ``earl-m2t: ignore[C008] reason`` on an element.
+"""Suppressions written in the model (:class:`~earl_m2t.model.directives.Suppression`, a comment
+``earl-m2t: ignore[C008] reason`` on an element) applied to the findings.
 
-A comment (UML ``ownedComment``) whose body holds ``earl-m2t: ignore[CODE, …]`` followed by
-a reason silences those rules for findings on the elements it annotates (its
-``annotatedElement``s, else its owner): findings whose location has that element's xmi:id,
-or whose element path is the path of a lifted element read from it. A suppression that
-silences nothing is R005; one without a reason is R006 (it still silences).
+A suppression silences its rules for findings on the elements it annotates: findings whose
+location has that element's xmi:id, or whose element path is the path of a lifted element read
+from it. A suppression that silences nothing is R005; one without a reason is R006 (it still
+silences).
 """
 
 from __future__ import annotations
 
-import html
-import re
-from dataclasses import dataclass, fields, is_dataclass
+from dataclasses import fields, is_dataclass
 from typing import Iterable, Iterator, Mapping
 
 from earl_m2t.check.engine import CheckOptions
 from earl_m2t.check.registry import catalogue
 from earl_m2t.diagnostics import Diagnostic
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.directives import Suppression
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
-from earl_m2t.read.xmi import Element, ExternalRef, RawModel
-
-# Linear in the comment's length however it is written: the code list is bounded (an unclosed
-# ``ignore[`` repeated along one line would otherwise be scanned to the line's end each time),
-# and a tag cannot hold ``<`` (an unclosed ``<`` would otherwise be scanned to the text's end).
-# A tag (of a tool's HTML notes) starts with a name, ``/`` or ``!``: the LTL operators ``<>`` and
-# ``<->`` of an ``earl-m2t: ltl`` directive written as plain text are no tags.
-DIRECTIVE = re.compile(r"earl-m2t:\s*ignore\[([^\]\n]{0,200})\]([^\n]*)")
-_TAG = re.compile(r"</?[A-Za-z!][^<>]*>")
-
-
-@dataclass(frozen=True)
-class Suppression:
-    codes: tuple[str, ...]  # as written: codes, rule names or a repository's rule names
-    reason: str
-    target: str  # xmi:id of the annotated element
-    target_name: str  # "Connector 'commandLink'"
-    location: Location  # of the comment
-
-
-def comment_body(comment: Element) -> str:
-    text = comment.get("body") or ""  # Cameo, Enterprise Architect
-    text += "\n".join(b.text or "" for b in comment.iterchildren("body"))  # Papyrus
-    return html.unescape(_TAG.sub("\n", text)) if "<" in text else text
-
-
-def read_suppressions(raw: RawModel) -> tuple[Suppression, ...]:
-    """Every suppression directive in the comments of the model's own documents."""
-    found: list[Suppression] = []
-    for root in raw.model_roots:
-        for comment in root.iter("ownedComment"):
-            directives = DIRECTIVE.findall(comment_body(comment))
-            if not directives:
-                continue
-            targets = [t for t in raw.refs(comment, "annotatedElement") if not isinstance(t, ExternalRef)]
-            owner = raw.owner(comment)
-            if not targets and owner is not None:
-                targets = [owner]
-            for codes, reason in directives:
-                written = tuple(c.strip() for c in codes.split(",") if c.strip())
-                for target in targets:
-                    name = f"{raw.uml_type(target) or 'element'} '{raw.name(target)}'"
-                    found.append(Suppression(written, reason.strip(" \t-–—:;,."), raw.xmi_id(target), name,
-                                             raw.location(comment)))
-    return tuple(found)
+from earl_m2t.model.scope import Scope
 
 
 def _objects(value: object, seen: set[int]) -> Iterator[object]:
@@ -73,6 +29,8 @@ def _objects(value: object, seen: set[int]) -> Iterator[object]:
     seen.add(id(value))
     if is_dataclass(value) and not isinstance(value, type):
         yield value
+        if isinstance(value, (Condition, Scope)):  # what the lift made of a text: no element in it
+            return
         for f in fields(value):
             yield from _objects(getattr(value, f.name), seen)
     elif isinstance(value, Mapping):
@@ -105,9 +63,10 @@ def _resolve(written: str, user_codes: set[str]) -> str:
     return written if written in user_codes else ""
 
 
-def apply_suppressions(diagnostics: Iterable[Diagnostic], suppressions: tuple[Suppression, ...], model: EarlModel,
-                       options: CheckOptions) -> list[Diagnostic]:
-    """The findings no suppression silences, plus R005 / R006 findings about the suppressions."""
+def apply_suppressions(diagnostics: Iterable[Diagnostic], model: EarlModel, options: CheckOptions) -> list[Diagnostic]:
+    """The findings none of the model's suppressions silences, plus R005 / R006 findings about
+    the suppressions."""
+    suppressions = model.suppressions
     kept = list(diagnostics)
     if not suppressions:
         return kept

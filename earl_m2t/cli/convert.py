@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     except ModelReadError as exc:
         print(exc.one_line(), file=sys.stderr)
         return 2
-    text = to_sysml(loaded.model, tuple((p.title, p.text) for p in loaded.properties))
+    text = to_sysml(loaded.model)
     if not args.output:
         sys.stdout.write(text)
         return 0

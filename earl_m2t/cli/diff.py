@@ -101,7 +101,7 @@ def _changes(old: Side, new: Side) -> list[Change]:
     empty = Node("EarlModel", "model", "", "", "", Location(""), (), ())
 
     def tree(side: Side) -> Node:
-        return model_tree(side.model, side.properties) if side.model is not None else empty
+        return model_tree(side.model) if side.model is not None else empty
 
     changes = compare(tree(old), tree(new))
     if old.model is None or new.model is None:  # a whole model added or removed: its name is no change

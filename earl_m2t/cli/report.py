@@ -54,13 +54,13 @@ def run(args: argparse.Namespace) -> int:
     loaded, findings = checked.loaded, checked.findings
     verification = None
     if args.verify:
-        from earl_m2t.verify.ltl import LtlError
+        from earl_m2t.verify.ltl import LtlError, tokens
         from earl_m2t.verify.run import VerifyOptions, verify_model
         from earl_m2t.verify.spin import SpinUnavailable
 
         try:
             for prop in loaded.properties:
-                prop.promela(loaded.model)
+                tokens(prop, loaded.model)
             verification = verify_model(loaded.model, VerifyOptions(properties=loaded.properties))
         except (LtlError, SpinUnavailable) as error:
             print(f"earl-m2t: report: {error}", file=sys.stderr)

@@ -41,5 +41,5 @@ def run(args: argparse.Namespace) -> int:
                                        "line": p.location.line} for p in loaded.properties]
         sys.stdout.write(json.dumps(document, indent=2, ensure_ascii=False) + "\n")
     else:
-        sys.stdout.write(render_model(loaded.model, loaded.properties))
+        sys.stdout.write(render_model(loaded.model))
     return 0

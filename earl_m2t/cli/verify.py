@@ -39,7 +39,8 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import load
     from earl_m2t.diagnostics import ModelReadError
     from earl_m2t.model.location import Location
-    from earl_m2t.verify.ltl import LtlError, LtlProperty
+    from earl_m2t.model.directives import LtlProperty
+    from earl_m2t.verify.ltl import LtlError, tokens
     from earl_m2t.verify.render import RENDERERS
     from earl_m2t.verify.run import VerifyOptions, verify_model
     from earl_m2t.verify.spin import SpinUnavailable
@@ -59,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     properties = written + given
     try:
         for prop in properties:
-            prop.promela(model)  # a syntax error or unknown state: one line before SPIN runs
+            tokens(prop, model)  # a syntax error or unknown state: one line before SPIN runs
         result = verify_model(model, VerifyOptions(args.depth, args.timeout, properties))
     except LtlError as exc:
         print(f"earl-m2t: verify: {exc}", file=sys.stderr)

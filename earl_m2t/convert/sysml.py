@@ -21,7 +21,7 @@ def _environment() -> jinja2.Environment:
     )
 
 
-def to_sysml(model: EarlModel, properties: tuple[tuple[str, str], ...] = ()) -> str:
-    """The SysML v2 text of a lifted model: reading it back gives the same EARL model, and the
-    same LTL ``properties`` (name, formula) for ``earl-m2t verify``."""
-    return _environment().get_template(TEMPLATE).render(**model_view(model, properties=properties))
+def to_sysml(model: EarlModel) -> str:
+    """The SysML v2 text of a lifted model: reading it back gives the same EARL model, its LTL
+    properties (for ``earl-m2t verify``) included."""
+    return _environment().get_template(TEMPLATE).render(**model_view(model))

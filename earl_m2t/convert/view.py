@@ -14,13 +14,13 @@ from typing import Any
 
 from earl_m2t.convert.names import expression, qualified, quoted
 from earl_m2t.lift.recognise import suffix_of
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
     Activation,
     Agent,
     BasicBehaviour,
     Buffer,
-    Condition,
-    DataType,
     EarlModel,
     Group,
     Link,
@@ -45,28 +45,26 @@ class Definition:
     lines: list[str] = field(default_factory=list)
 
 
-def model_view(model: EarlModel, profile: Profile | None = None,
-               properties: tuple[tuple[str, str], ...] = ()) -> dict[str, Any]:
-    """``properties``: the model's LTL properties (name, formula), written as «LtlProperty»
-    metadata of the first System."""
-    return _View(model, profile or load_profile(), properties).build()
+def model_view(model: EarlModel, profile: Profile | None = None) -> dict[str, Any]:
+    """The model's elements as SysML v2 definitions; its LTL properties are written as
+    «LtlProperty» metadata of the first System."""
+    return _View(model, profile or load_profile()).build()
 
 
 class _View:
-    def __init__(self, model: EarlModel, profile: Profile, properties: tuple[tuple[str, str], ...] = ()) -> None:
+    def __init__(self, model: EarlModel, profile: Profile) -> None:
         self.model = model
         self.profile = profile
-        self.properties = properties
         self.blocks: dict[str, Definition] = {}
 
     def build(self) -> dict[str, Any]:
         for system in self.model.systems:
             self.system(system)
-        if self.model.systems and self.properties:
+        if self.model.systems and self.model.properties:
             definition = self.blocks.get(self.model.systems[0].name)
             if definition is not None:
-                definition.lines.extend(f"metadata {quoted(name)} : Ltl {{ formula = {_string_literal(formula)}; }}"
-                                        for name, formula in self.properties)
+                definition.lines.extend(f"metadata {quoted(p.title)} : Ltl {{ formula = {_string_literal(p.text)}; }}"
+                                        for p in self.model.properties)
         return {
             "model": quoted(self.model.name or "Model"),
             "datatypes": self.datatype_lines(),

@@ -13,7 +13,6 @@ from typing import Iterator
 from earl_m2t.api import load
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.verify.ltl import LtlProperty
 
 GIT_PREFIX = "git:"
 NO_FILE = "/dev/null"
@@ -28,7 +27,6 @@ class Side:
     model: EarlModel | None  # None: no model (an added or deleted file)
     read_from: str  # the folder the model was read from, when it is not where the label says ...
     shown_as: str = ""  # ... and how locations in it are shown instead ("git:HEAD:models/")
-    properties: tuple[LtlProperty, ...] = ()  # the LTL properties written in the model
 
 
 def empty_side(label: str) -> Side:
@@ -43,7 +41,7 @@ def opened(spec: str, dialect: str | None = None) -> Iterator[Side]:
         return
     if not spec.startswith(GIT_PREFIX):
         loaded = load(spec, dialect)
-        yield Side(spec, loaded.model, "", properties=loaded.properties)
+        yield Side(spec, loaded.model, "")
         return
     revision, separator, path = spec[len(GIT_PREFIX):].partition(":")
     if not separator or not revision or not path:
@@ -53,7 +51,7 @@ def opened(spec: str, dialect: str | None = None) -> Iterator[Side]:
         parent = str(PurePosixPath(path).parent)
         shown_as = f"{GIT_PREFIX}{revision}:" + ("" if parent == "." else parent + "/")
         loaded = load(file, dialect)
-        yield Side(spec, loaded.model, folder + "/", shown_as, loaded.properties)
+        yield Side(spec, loaded.model, folder + "/", shown_as)
 
 
 def _git(args: list[str], spec: str) -> bytes:

@@ -11,15 +11,16 @@ from __future__ import annotations
 
 import dataclasses
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
 from earl_m2t import resources
-from earl_m2t.model.elements import Condition, EarlModel
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
-from earl_m2t.verify.ltl import LtlProperty
+from earl_m2t.model.directives import LtlProperty
 
 
 @dataclass(frozen=True)
@@ -67,13 +68,12 @@ class Node:
         return dict(self.values)
 
 
-def model_tree(model: EarlModel, properties: Sequence[LtlProperty] = ()) -> Node:
-    """The model as a tree; ``properties``, the LTL properties written in it (they are read
-    beside the lifted model, :mod:`earl_m2t.verify.directives`), are children of its root."""
+def model_tree(model: EarlModel) -> Node:
+    """The model as a tree; its LTL properties are the last children of its root."""
     root = _node(model, "", "", "")
-    if not properties:
+    if not model.properties:
         return root
-    return dataclasses.replace(root, children=root.children + tuple(_property_node(p) for p in properties))
+    return dataclasses.replace(root, children=root.children + tuple(_property_node(p) for p in model.properties))
 
 
 def _property_node(prop: LtlProperty) -> Node:

@@ -22,6 +22,9 @@ from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.fabric.conditions import ConditionError, parse_fabric_condition
 from earl_m2t.fabric.package import FabricPackage, Where
 from earl_m2t.lift.structure import computed_agent_type
+from earl_m2t.lift.conditions import resolve_subsystem
+from earl_m2t.model.conditions import Condition, ConditionRole
+from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
     SUBSYSTEM_KINDS,
     Activation,
@@ -29,8 +32,6 @@ from earl_m2t.model.elements import (
     BasicBehaviour,
     Buffer,
     BufferGroup,
-    Condition,
-    DataType,
     EarlModel,
     Fsm,
     Link,
@@ -180,7 +181,7 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         location=_location(next(b.where for b in package.behaviours if r in b.running)),
         recognised_by=RECOGNISED) for r in running)
 
-    def condition(text: str, where: Where, owner: str, role: str, what: str) -> Condition:
+    def condition(text: str, where: Where, owner: str, role: ConditionRole, what: str) -> Condition:
         try:
             expr = parse_fabric_condition(text, predicate_names)
         except ConditionError as exc:
@@ -191,8 +192,8 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
 
     behaviours = tuple(BasicBehaviour(
         name=f"{b.name}/bb", path=f"{path}.{b.name}/bb",
-        tc=condition(b.stop_cond, b.where, f"{path}.{b.name}/bb", "tc", f"behavior '{b.name}' stop_cond"),
-        ec=condition(b.err_cond, b.where, f"{path}.{b.name}/bb", "ec", f"behavior '{b.name}' err_cond"),
+        tc=condition(b.stop_cond, b.where, f"{path}.{b.name}/bb", ConditionRole.TC, f"behavior '{b.name}' stop_cond"),
+        ec=condition(b.err_cond, b.where, f"{path}.{b.name}/bb", ConditionRole.EC, f"behavior '{b.name}' err_cond"),
         stages=((tuple(f"{r}/pf" for r in b.running),) if b.running else ()), activity_problems=(),
         location=_location(b.where), recognised_by=RECOGNISED) for b in package.behaviours)
     fsm_path = f"{path}.fsm"
@@ -209,17 +210,17 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
             transitions.append(Transition(
                 name=name, path=f"{fsm_path}.{name}", source=s.name, target=target, source_foreign=False,
                 target_foreign=False,
-                condition=condition(text, where, f"{fsm_path}.{name}", "ic", f"state '{s.name}' next_state '{target}'"),
+                condition=condition(text, where, f"{fsm_path}.{name}", ConditionRole.IC, f"state '{s.name}' next_state '{target}'"),
                 priority=0, order=len(transitions), location=_location(where)))
     fsm = Fsm(name="fsm", path=fsm_path, states=states, transitions=tuple(transitions),
               initial_states=(package.initial,), location=_location(package.where))
-    return Subsystem(
+    return resolve_subsystem(Subsystem(
         name=names.part, path=path, kind=names.kind, agent=names.agent, block=package.name,
         block_id=package.name, template=names.part, index=0,
         inputs=tuple(b for b in buffers if b.direction == "in"),
         outputs=tuple(b for b in buffers if b.direction == "out"), memory=(), fsm=fsm, behaviours=behaviours,
         functions=functions, predicates=predicates, exclusions=(), fsm_count=1, location=_location(package.where),
-        recognised_by="stereotype", buffer_groups=groups)
+        recognised_by="stereotype", buffer_groups=groups), datatypes)
 
 
 def _links(packages: Sequence[FabricPackage], agents: dict[str, list[Subsystem]]) -> list[Link]:

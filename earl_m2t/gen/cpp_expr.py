@@ -18,8 +18,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from earl_m2t.gen.errors import GenError
-from earl_m2t.model.conditions import ConditionResolver
-from earl_m2t.model.elements import DataType, EarlModel, Field, Subsystem
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.datatypes import DataType, Field
+from earl_m2t.model.elements import EarlModel, Subsystem
+from earl_m2t.model.naming import stem
 from earl_m2t.predicate import (
     And,
     Compare,
@@ -32,7 +34,6 @@ from earl_m2t.predicate import (
     Or,
     PredicateRef,
     Replicated,
-    expand_replicated,
     format_predicate,
 )
 
@@ -62,16 +63,20 @@ class ExprCompiler:
     """Compiles the conditions of one subsystem."""
 
     def __init__(self, model: EarlModel, subsystem: Subsystem, symbols: Symbols) -> None:
+        assert subsystem.scope is not None, "a lifted subsystem"
         self.model = model
-        self.resolver = ConditionResolver(model, subsystem)
+        self.scope = subsystem.scope
         self.symbols = symbols
         self._where = ""
 
-    def compile(self, expr: Expr, where: str) -> str:
-        """The C++ boolean expression of ``expr``; ``where`` names it in errors."""
+    def compile(self, condition: Condition, where: str) -> str:
+        """The C++ boolean expression of a condition of the subsystem (its replications
+        written out); ``where`` names it in errors."""
+        if condition.expanded is None:
+            problem = condition.syntax_problem
+            raise GenError(f"{where}: {problem.message if problem else 'does not parse'}")
         self._where = where
-        expanded = expand_replicated(expr, lambda node: self.resolver.replication_count(node) or None)
-        return self._bool(expanded)
+        return self._bool(condition.expanded)
 
     # ------------------------------------------------------------------ booleans
 
@@ -84,7 +89,7 @@ class ExprCompiler:
             joiner = " && " if isinstance(node, And) else " || "
             return "(" + joiner.join(self._bool(o) for o in node.operands) + ")"
         if isinstance(node, PredicateRef):
-            name = self.resolver.predicate(node.name)
+            name = self.scope.predicate(node.name)
             if name is not None:
                 return self.symbols.predicates[name]
             return self._field_bool(FieldRef(node.name, line=node.line, column=node.column))
@@ -128,8 +133,7 @@ class ExprCompiler:
 
     def _storage(self, ref: FieldRef) -> Storage:
         head = ref.head
-        stem = head.rpartition("/")[0] if "/" in head else head
-        found = self.symbols.storage.get(head) or self.symbols.storage.get(f"m:{stem}")
+        found = self.symbols.storage.get(head) or self.symbols.storage.get(f"m:{stem(head)}")
         if found is None:
             raise self._error(f"unknown buffer or memory '{head}'")
         return found

@@ -7,6 +7,7 @@ from types import MappingProxyType
 
 from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift.datatypes import DataTypeLifter
+from earl_m2t.lift.directives import read_properties, read_suppressions
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.lift.structure import StructureLifter
 from earl_m2t.model.elements import EarlModel
@@ -38,5 +39,7 @@ def lift(raw: RawModel, profile: Profile | None = None, vocabulary: Vocabulary |
         systems=tuple(systems),
         datatypes=MappingProxyType(dict(sorted(types.datatypes.items()))),
         has_earl_content=bool(systems) or structure.recognised_anything,
+        suppressions=read_suppressions(raw),
+        properties=read_properties(raw),
     )
     return LiftResult(model, tuple(raw.diagnostics) + tuple(structure.diagnostics))

@@ -3,6 +3,7 @@ partial transition functions, primitive predicates and exclusions."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from earl_m2t.lift.activation import activation_of
@@ -12,7 +13,6 @@ from earl_m2t.model.elements import (
     ActivityProblem,
     BasicBehaviour,
     Buffer,
-    Condition,
     Exclusion,
     Fsm,
     Memory,
@@ -21,6 +21,7 @@ from earl_m2t.model.elements import (
     State,
     Transition,
 )
+from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 PREDICATE_LANGUAGES = frozenset({"", "earl", "earl-predicate", "predicate"})
@@ -45,9 +46,11 @@ class BehaviourContext:
     inputs: tuple[Buffer, ...]
     outputs: tuple[Buffer, ...]
     memory: tuple[Memory, ...]
+    # a condition of the FSM or a basic behaviour, resolved in the subsystem
+    resolve: Callable[[Condition | None], Condition | None] = lambda condition: condition
 
 
-def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: str) -> Condition | None:
+def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: ConditionRole) -> Condition | None:
     """The predicate text of a Constraint (or an expression / opaque behaviour) in the EARL language."""
     if constraint is None:
         return None
@@ -146,7 +149,7 @@ class BehaviourLifter:
             name = self.raw.name(el)
             path = f"{self.ctx.path}.{name}"
             if self.raw.uml_type(el) == "Constraint":
-                fun = condition_of(self.raw, el, path, "fun")
+                fun = condition_of(self.raw, el, path, ConditionRole.FUN)
                 language, body = (fun.language, fun.text) if fun else ("", "")
             else:
                 bodies = self.raw.opaque_bodies(el)
@@ -154,7 +157,7 @@ class BehaviourLifter:
                     ((lang, b) for lang, b in bodies if lang.strip().lower() in PREDICATE_LANGUAGES),
                     bodies[0] if bodies else ("", ""),
                 )
-                fun = Condition(body.strip(), language, self.raw.body_location(el), path, "fun")
+                fun = Condition(body.strip(), language, self.raw.body_location(el), path, ConditionRole.FUN)
             if fun is not None and language.strip().lower() not in PREDICATE_LANGUAGES:
                 fun = None  # user code in another language (C++): generated as a stub to implement
             result.append(
@@ -171,7 +174,7 @@ class BehaviourLifter:
             if concept == "Exclusion":
                 names = [self.raw.name(t) for t in self.raw.refs(rule, "constrainedElement") if not isinstance(t, ExternalRef)]
             if not names:
-                cond = condition_of(self.raw, rule, self.ctx.path, "exclusion")
+                cond = condition_of(self.raw, rule, self.ctx.path, ConditionRole.EXCLUSION)
                 names = parse_exclusive(cond.text) if cond is not None else []
             if len(names) >= 2:
                 result.append(Exclusion(self.raw.name(rule), tuple(names), self.raw.location(rule)))
@@ -247,7 +250,7 @@ class BehaviourLifter:
         if guard is None or isinstance(guard, ExternalRef):
             inline = raw.children(tr, "guard")
             guard = inline[0] if inline else None
-        condition = condition_of(raw, guard, path, "ic")
+        condition = self.ctx.resolve(condition_of(raw, guard, path, ConditionRole.IC))
         priority = 0
         tags = self.ctx.recogniser.tags(tr)
         if "priority" in tags:
@@ -291,8 +294,8 @@ class BehaviourLifter:
             role = CONDITION_NAMES.get(raw.name(owned).strip().lower().replace(" ", ""))
             if role and role not in rules:
                 rules[role] = owned
-        tc = condition_of(raw, rules.get("tc"), path, "tc")
-        ec = condition_of(raw, rules.get("ec"), path, "ec")
+        tc = self.ctx.resolve(condition_of(raw, rules.get("tc"), path, ConditionRole.TC))
+        ec = self.ctx.resolve(condition_of(raw, rules.get("ec"), path, ConditionRole.EC))
         stages, problems = self.stages(activity)
         return BasicBehaviour(name, path, tc, ec, stages, tuple(problems), raw.location(activity),
                               self.ctx.recogniser.recognise(activity).route or "position")

@@ -6,7 +6,7 @@ import tomllib
 from functools import cache
 
 from earl_m2t.lift.replication import multiplicity
-from earl_m2t.model.elements import DataType, Field
+from earl_m2t.model.datatypes import DataType, Field
 from earl_m2t.model.location import Location
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 from earl_m2t.resources import metamodel_path

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import partial
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.activation import buffer_groups, receive_of
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
+from earl_m2t.lift.conditions import ConditionLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
@@ -55,6 +57,7 @@ class StructureLifter:
         self.raw = raw
         self.recogniser = recogniser
         self.types = types
+        self.conditions = ConditionLifter(types.datatypes)
         self.diagnostics: list[Diagnostic] = []
         self.recognised_anything = False
         self._outputs: set[str] = set()  # paths of every Output Buffer lifted so far
@@ -293,6 +296,10 @@ class StructureLifter:
                 )
         ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory))
         lifter = BehaviourLifter(ctx)
+        predicates = lifter.predicates(block)
+        scope = self.conditions.scope(inputs + outputs, memory, predicates)
+        ctx.resolve = partial(self.conditions.resolve, scope=scope)
+        predicates = self.conditions.resolve_predicates(predicates, scope)
         machines = lifter.state_machines(block)
         fsm: Fsm | None = None
         behaviours: list[BasicBehaviour] = []
@@ -313,8 +320,8 @@ class StructureLifter:
         subsystem = Subsystem(
             name, path, kind, agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,
             tuple(inputs), tuple(outputs), tuple(memory), fsm, tuple(unique), lifter.functions(block),
-            lifter.predicates(block), lifter.exclusions(block), len(machines), raw.location(part), route,
-            buffer_groups(raw, self.recogniser, block, path),
+            predicates, lifter.exclusions(block), len(machines), raw.location(part), route,
+            buffer_groups(raw, self.recogniser, block, path), scope,
         )
         self._templates[path] = (raw.name(part), name)
         return _SubsystemInstance(subsystem, part, ports)

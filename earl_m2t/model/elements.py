@@ -7,62 +7,18 @@ same string diagnostics and ``show`` print, so the model stays a tree of frozen 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 from typing import Iterator, Mapping
 
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.directives import LtlProperty, Suppression
 from earl_m2t.model.location import Location
+from earl_m2t.model.scope import Scope
 
 SUBSYSTEM_KINDS = ("cs", "ve", "re", "vr", "rr")
 RECEIVE_MODES = ("latest", "queue")  # how an Input Buffer receives (Buffer.receive)
-
-
-@dataclass(frozen=True, slots=True)
-class Field:
-    """A field of a composite dataType; ``upper`` None means unbounded (``*``)."""
-
-    name: str
-    type: str  # key into EarlModel.datatypes, or "" when unresolved
-    lower: int
-    upper: int | None
-    location: Location
-    type_ref: str = ""  # the reference as written when it did not resolve (rule D001)
-
-    @property
-    def is_array(self) -> bool:
-        """Fixed ``[n]`` or variable (``[*]``, ``[0..n]``, optional ``[0..1]``) array."""
-        return self.upper is None or self.upper > 1 or self.lower != self.upper
-
-    @property
-    def is_fixed_array(self) -> bool:
-        return self.upper is not None and self.upper > 1 and self.lower == self.upper
-
-
-@dataclass(frozen=True, slots=True)
-class DataType:
-    """A primitive, enumeration or composite (possibly nested) dataType."""
-
-    name: str
-    qualified_name: str
-    kind: str  # "primitive" | "enumeration" | "struct"
-    primitive: str = ""  # "boolean" | "integer" | "real" | "string" for primitives
-    fields: tuple[Field, ...] = ()
-    literals: tuple[str, ...] = ()
-    location: Location = field(default_factory=lambda: Location("<builtin>"))
-
-    def field_named(self, name: str) -> Field | None:
-        return next((f for f in self.fields if f.name == name), None)
-
-
-@dataclass(frozen=True, slots=True)
-class Condition:
-    """A predicate as written in the model (``text``) and where it was written."""
-
-    text: str
-    language: str
-    location: Location
-    owner: str  # path of the element owning it (transition, behaviour, predicate)
-    role: str  # "ic" | "tc" | "ec" | "fun"
 
 
 @dataclass(frozen=True, slots=True)
@@ -257,10 +213,25 @@ class Subsystem:
     location: Location
     recognised_by: str
     buffer_groups: tuple[BufferGroup, ...] = ()
+    scope: Scope | None = None  # what the names in its conditions stand for; set by the lift
 
     @property
     def buffers(self) -> tuple[Buffer, ...]:
         return self.inputs + self.outputs
+
+    def conditions(self) -> Iterator[Condition]:
+        """Every condition it holds: guards, tc/ec, primitive predicate bodies."""
+        if self.fsm is not None:
+            for tr in self.fsm.transitions:
+                if tr.condition is not None:
+                    yield tr.condition
+        for bb in self.behaviours:
+            for cond in (bb.tc, bb.ec):
+                if cond is not None:
+                    yield cond
+        for pp in self.predicates:
+            if pp.fun is not None:
+                yield pp.fun
 
     def behaviour(self, name: str) -> BasicBehaviour | None:
         return next((b for b in self.behaviours if b.name == name), None)
@@ -399,9 +370,8 @@ class EarlModel:
     systems: tuple[System, ...]
     datatypes: Mapping[str, DataType]  # by qualified name, read-only
     has_earl_content: bool = True  # False when nothing in the file was recognised as EARL
-    # what rules derive from the model and share (e.g. one guard analysis per subsystem for
-    # B006 and B007); not part of the model's value, and not carried over by replace()
-    derived: dict[object, object] = field(default_factory=dict, init=False, compare=False, repr=False)
+    suppressions: tuple[Suppression, ...] = ()  # its ``earl-m2t: ignore[…]`` comments
+    properties: tuple[LtlProperty, ...] = ()  # its «LtlProperty» constraints and ``earl-m2t: ltl`` comments
 
     @property
     def system(self) -> System | None:

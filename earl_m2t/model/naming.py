@@ -1,4 +1,10 @@
-"""How model names become C++ / ROS identifiers and file names (rules D003, D004; generators)."""
+"""EARL names, and how they become C++ / ROS identifiers and file names (rules D003, D004; generators).
+
+An EARL name is a descriptive part and the abbreviation of its concept: ``manipulatorCommand/ib``,
+``motionFinished/pp``. A replicated element's template names its instances with ``K`` at the end
+of the descriptive part (``motorControllerK/ve``: ``motorController1/ve`` …). The functions below
+are the one place that splits and joins such names.
+"""
 
 from __future__ import annotations
 
@@ -25,27 +31,49 @@ def _windows_reserved_names() -> frozenset[str]:
 _REMEMBERED = 1 << 16
 
 
-def identifier_stem(name: str) -> str:
+def split(name: str) -> tuple[str, str | None]:
+    """``manipulatorCommand/ib`` → ("manipulatorCommand", "ib"); a name without ``/`` → (name, None).
+    The abbreviation follows the last ``/``."""
+    descriptive, slash, abbreviation = name.rpartition("/")
+    return (descriptive, abbreviation) if slash else (name, None)
+
+
+def stem(name: str) -> str:
     """The descriptive part of an EARL name: ``manipulatorCommand/ib`` → ``manipulatorCommand``."""
     return name.rpartition("/")[0] if "/" in name else name
+
+
+def suffix(name: str) -> str:
+    """The abbreviation an EARL name ends with: ``manipulatorCommand/ib`` → ``ib``; "" for none."""
+    return name.rpartition("/")[2] if "/" in name else ""
+
+
+def instance_template(name: str) -> str:
+    """The template an instance name belongs to: ``motorControllerState3/ib`` →
+    ``motorControllerStateK/ib``; a name without a trailing number is returned as it is."""
+    descriptive, slash, abbreviation = name.rpartition("/") if "/" in name else (name, "", "")
+    digits = len(descriptive) - len(descriptive.rstrip("0123456789"))
+    if digits and digits < len(descriptive):
+        return f"{descriptive[:-digits]}K{slash}{abbreviation}"
+    return name
 
 
 def identifier(name: str) -> str:
     """The identifier generators use: the abbreviation stays, so ``motionFinished/m`` and
     ``motionFinished/pp`` (both in the paper) become ``motionFinished_m`` and ``motionFinished_pp``."""
-    stem, slash, abbr = name.rpartition("/")
-    return f"{stem}_{abbr}" if slash else name
+    descriptive, slash, abbr = name.rpartition("/")
+    return f"{descriptive}_{abbr}" if slash else name
 
 
 @lru_cache(maxsize=_REMEMBERED)
 def identifier_problem(name: str) -> str:
     """Why a name cannot become an identifier, or "" when it can."""
     table = _table()
-    stem = identifier_stem(name).strip()
-    if not stem:
+    descriptive = stem(name).strip()
+    if not descriptive:
         return "its descriptive part is empty"
-    if not re.match(table["pattern"], stem):
-        return f"'{stem}' is not of the form {table['pattern']}"
+    if not re.match(table["pattern"], descriptive):
+        return f"'{descriptive}' is not of the form {table['pattern']}"
     ident = identifier(name)
     if "/" in name and not re.match(table["pattern"], ident):
         return f"'{ident}' is not of the form {table['pattern']}"
@@ -70,7 +98,7 @@ def length_problem(name: str) -> str:
 def windows_reserved(name: str) -> str:
     """The Windows device name (``COM1``, ``NUL`` …) a name's files would be called, or ""."""
     reserved = _windows_reserved_names()
-    for candidate in (sanitised(name), re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(identifier_stem(name.strip()))),
+    for candidate in (sanitised(name), re.sub(r"[^A-Za-z0-9_]", "_", ascii_fold(stem(name.strip()))),
                       field_name(name), message_name(name)):
         if candidate.upper() in reserved:
             return candidate

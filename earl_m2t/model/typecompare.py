@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from earl_m2t.model.elements import DataType
+from earl_m2t.model.datatypes import DataType
 
 
 def structural_difference(datatypes: Mapping[str, DataType], left: str, right: str) -> str:

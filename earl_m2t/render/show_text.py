@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from itertools import groupby
 
-from earl_m2t.model.elements import Activation, Buffer, DataType, EarlModel, Group, Link, Subsystem
-from earl_m2t.verify.ltl import LtlProperty
+from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.elements import Activation, Buffer, EarlModel, Group, Link, Subsystem
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:
@@ -16,12 +15,12 @@ def _multiplicity(lower: int, upper: int | None) -> str:
     return f"[{upper_text}]" if lower == upper else f"[{lower}..{upper_text}]"
 
 
-def render_model(model: EarlModel, properties: Sequence[LtlProperty] = ()) -> str:
-    """The outline; ``properties``, the LTL properties written in the model, come last."""
+def render_model(model: EarlModel) -> str:
+    """The outline; the LTL properties written in the model come last."""
     lines = _outline(model)
-    if properties:
+    if model.properties:
         lines.append("ltl properties")
-        lines.extend(f"  {p.title}: {p.text}  (line {p.location.line})" for p in properties)
+        lines.extend(f"  {p.title}: {p.text}  (line {p.location.line})" for p in model.properties)
     return "\n".join(lines) + "\n"
 
 

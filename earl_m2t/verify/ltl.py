@@ -11,8 +11,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import EarlModel, Subsystem
-from earl_m2t.model.location import Location
 
 _SUBSYSTEM = r"[A-Za-z_]\w*/[A-Za-z]+\.[A-Za-z_]\w*(?:/[A-Za-z]+)?"
 _STATE_ATOM = re.compile(rf"({_SUBSYSTEM})@([A-Za-z_]\w*)")
@@ -40,34 +40,32 @@ class PredicateAtom:
 Token = str | StateAtom | PredicateAtom
 
 
-@dataclass(frozen=True, slots=True)
-class LtlProperty:
-    name: str  # the identifier SPIN knows it by
-    text: str
-    location: Location
-    label: str = ""  # the name the model gives it
+def tokens(prop: LtlProperty, model: EarlModel) -> tuple[Token, ...]:
+    """The formula as operators and resolved atoms; raises :class:`LtlError`."""
+    return _Tokenizer(prop, model).tokens()
 
-    @property
-    def title(self) -> str:
-        return self.label or self.name
 
-    def tokens(self, model: EarlModel) -> tuple[Token, ...]:
-        """The formula as operators and resolved atoms; raises :class:`LtlError`."""
+class _Tokenizer:
+    def __init__(self, prop: LtlProperty, model: EarlModel) -> None:
+        self.prop = prop
+        self.model = model
+
+    def tokens(self) -> tuple[Token, ...]:
         out: list[Token] = []
         pos = 0
-        text = self.text
+        text = self.prop.text
         while pos < len(text):
             if text[pos].isspace():
                 pos += 1
                 continue
             state = _STATE_ATOM.match(text, pos)
             if state:
-                out.append(self._state(model, state.group(1), state.group(2), pos))
+                out.append(self._state(state.group(1), state.group(2), pos))
                 pos = state.end()
                 continue
             predicate = _PREDICATE_ATOM.match(text, pos)
             if predicate:
-                out.append(self._predicate(model, predicate.group(1), predicate.group(2), pos))
+                out.append(self._predicate(predicate.group(1), predicate.group(2), pos))
                 pos = predicate.end()
                 continue
             op = _ALLOWED.match(text, pos)
@@ -78,28 +76,18 @@ class LtlProperty:
         if text.count("(") != text.count(")"):
             raise self._error(len(text), "unbalanced parentheses")
         if not out:
-            raise self._error(0, f"the property {self.title} has no formula")
+            raise self._error(0, f"the property {self.prop.title} has no formula")
         return tuple(out)
 
-    def observed(self, model: EarlModel) -> tuple[PredicateAtom, ...]:
-        """The predicates the formula reads, in the order written."""
-        return tuple(dict.fromkeys(t for t in self.tokens(model) if isinstance(t, PredicateAtom)))
-
-    def promela(self, model: EarlModel) -> str:
-        """The formula in Promela over the variables of the specification it is checked in."""
-        from earl_m2t.verify.promela import translate
-
-        return translate(model, (self,)).formulas[self.name]
-
-    def _state(self, model: EarlModel, path: str, state: str, pos: int) -> StateAtom:
-        subsystem = model.subsystem(path)
+    def _state(self, path: str, state: str, pos: int) -> StateAtom:
+        subsystem = self.model.subsystem(path)
         fsm = subsystem.fsm if subsystem is not None else None
         if fsm is None or fsm.state(state) is None:
             raise self._error(pos, f"no state {state} of a subsystem {path}")
         return StateAtom(path, state)
 
-    def _predicate(self, model: EarlModel, path: str, written: str, pos: int) -> PredicateAtom:
-        subsystem = model.subsystem(path)
+    def _predicate(self, path: str, written: str, pos: int) -> PredicateAtom:
+        subsystem = self.model.subsystem(path)
         if subsystem is None:
             raise self._error(pos, f"no subsystem {path} (for its predicate {written})")
         name = predicate_name(subsystem, written)
@@ -109,10 +97,10 @@ class LtlProperty:
         return PredicateAtom(path, name)
 
     def _error(self, offset: int, message: str) -> LtlError:
-        loc = self.location
+        loc = self.prop.location
         column = (loc.column or 1) + offset
         if loc.line == 0:
-            return LtlError(f"{loc.file}: {self.title}: column {column}: {message}")
+            return LtlError(f"{loc.file}: {self.prop.title}: column {column}: {message}")
         return LtlError(f"{loc.file}:{loc.line}:{column}: {message}")
 
 

@@ -15,7 +15,8 @@ from itertools import combinations, product
 
 from earl_m2t.analysis.expand import Expander, Formula
 from earl_m2t.model.elements import EarlModel, State, Subsystem, Transition
-from earl_m2t.predicate import And, Const, Expr, Not, Or, PredicateRef, evaluate_atoms, format_predicate, split_name
+from earl_m2t.model.naming import split
+from earl_m2t.predicate import And, Const, Expr, Not, Or, PredicateRef, evaluate_atoms, format_predicate
 
 MAX_ATOMS = 16  # 65536 assignments per state; above this every outcome is taken as possible
 
@@ -42,9 +43,9 @@ def state_outcomes(model: EarlModel, subsystem: Subsystem,
     properties), outcomes that differ only in those predicates' values are told apart."""
     if subsystem.fsm is None:
         return ()
-    expander = Expander(model, subsystem)
+    expander = Expander(subsystem, model.datatypes)
     exclusions = _exclusions(expander, subsystem)
-    watched = tuple((split_name(name)[0], expander.predicate(name) or PredicateRef(name)) for name in observed)
+    watched = tuple((split(name)[0], expander.predicate(name) or PredicateRef(name)) for name in observed)
     return tuple(_one_state(expander, subsystem, state, exclusions, watched) for state in subsystem.fsm.states)
 
 

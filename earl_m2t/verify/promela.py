@@ -13,13 +13,11 @@ then that nobody waits for an obligatory input.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
+from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
+from earl_m2t.verify.ltl import PredicateAtom, StateAtom, Token, tokens as ltl_tokens
 from earl_m2t.verify.outcomes import Outcome, StateOutcomes, state_outcomes
-
-if TYPE_CHECKING:
-    from earl_m2t.verify.ltl import LtlProperty, Token
 
 OUTCOME_MARK = "EARL"  # the printf tag of a taken outcome, read back from SPIN's replay
 
@@ -90,10 +88,8 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = ()) -> Spe
     """The Promela text of ``model`` with the never claims of ``properties``; a primitive
     predicate they read gets a global set by every iteration of its subsystem (only then, so
     that models checked without such properties keep their state space)."""
-    from earl_m2t.verify.ltl import PredicateAtom
-
     spec = Specification("")
-    tokens = {prop.name: prop.tokens(model) for prop in properties}
+    tokens = {prop.name: ltl_tokens(prop, model) for prop in properties}
     watched: dict[tuple[str, str], ObservedPredicate] = {}
     for written in tokens.values():
         for token in written:
@@ -161,8 +157,6 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = ()) -> Spe
 
 def _formula(spec: Specification, tokens: tuple[Token, ...],
              watched: dict[tuple[str, str], ObservedPredicate]) -> str:
-    from earl_m2t.verify.ltl import PredicateAtom, StateAtom
-
     out: list[str] = []
     for token in tokens:
         if isinstance(token, PredicateAtom):

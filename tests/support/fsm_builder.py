@@ -9,14 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
+from earl_m2t.lift.conditions import resolve_subsystem
+from earl_m2t.model.conditions import Condition, ConditionRole
+from earl_m2t.model.datatypes import DataType, Field
 from earl_m2t.model.elements import (
     BasicBehaviour,
     Buffer,
-    Condition,
-    DataType,
     EarlModel,
     Exclusion,
-    Field,
     Fsm,
     PrimitivePredicate,
     State,
@@ -38,7 +38,7 @@ def _datatypes(booleans: int) -> dict[str, DataType]:
     return types
 
 
-def _condition(text: str | None, owner: str, role: str) -> Condition | None:
+def _condition(text: str | None, owner: str, role: ConditionRole) -> Condition | None:
     return None if text is None else Condition(text, "EARL", HERE, owner, role)
 
 
@@ -55,13 +55,13 @@ def build(
     path = "a/a.cs"
     fsm_path = f"{path}.fsm"
     pps = tuple(
-        PrimitivePredicate(name, f"{path}.{name}", _condition(body, f"{path}.{name}", "fun"),
+        PrimitivePredicate(name, f"{path}.{name}", _condition(body, f"{path}.{name}", ConditionRole.FUN),
                            "EARL" if body is not None else "C++", body or "return true;", HERE, "suffix")
         for name, body in predicates.items()
     )
     bbs = tuple(
-        BasicBehaviour(f"{name}/bb", f"{path}.{name}/bb", _condition(tc, f"{path}.{name}/bb", "tc"),
-                       _condition(ec, f"{path}.{name}/bb", "ec"), (), (), HERE, "suffix")
+        BasicBehaviour(f"{name}/bb", f"{path}.{name}/bb", _condition(tc, f"{path}.{name}/bb", ConditionRole.TC),
+                       _condition(ec, f"{path}.{name}/bb", ConditionRole.EC), (), (), HERE, "suffix")
         for name, (tc, ec) in states.items()
     )
     fsm_states = tuple(State(name, f"{fsm_path}.{name}", (f"{name}/bb",), HERE) for name in states)
@@ -71,11 +71,11 @@ def build(
         if any(t.name == name for t in trs):
             name = f"{source},{target}#{order}/t"
         trs.append(Transition(name, f"{fsm_path}.{name}", source, target, False, False,
-                              _condition(guard, f"{fsm_path}.{name}", "ic"), priority, order, HERE))
+                              _condition(guard, f"{fsm_path}.{name}", ConditionRole.IC), priority, order, HERE))
     fsm = Fsm("fsm", fsm_path, fsm_states, tuple(trs), (next(iter(states)),), HERE)
     buffer = Buffer("in/ib", f"{path}.in/ib", "in", SIGNALS, "in/ib", 0, HERE, "suffix")
     excl = tuple(Exclusion(f"x{i}", tuple(names), HERE) for i, names in enumerate(exclusions))
     sub = Subsystem("cs", path, "cs", "a/a", "Control", "_control", "cs", 0, (buffer,), (), (), fsm, bbs, (),
                     pps, excl, 1, HERE, "suffix")
     model = EarlModel("memory.uml", "papyrus", "memory", (), _datatypes(booleans))
-    return model, sub
+    return model, resolve_subsystem(sub, model.datatypes)

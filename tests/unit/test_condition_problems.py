@@ -1,24 +1,20 @@
-"""B005's answers shared between subsystems alike (earl_m2t.model.conditions): a condition's
-unknown references are worked out once for a text and what the subsystem names, and each
-subsystem gets them at its own condition's place; a subsystem that names other buffers,
-memory or predicates gets answers of its own."""
+"""The lift resolves a condition once per text and scope (earl_m2t.lift.conditions):
+subsystems alike in every name share one scope, and each gets the answers at its own
+condition's place; a subsystem that names other buffers, memory or predicates has a scope,
+and answers, of its own."""
 
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t.api import load
+from earl_m2t.lift.conditions import ConditionLifter
+from earl_m2t.model.conditions import Condition, ConditionRole, ProblemKind
+from earl_m2t.model.elements import EarlModel, Subsystem
+from earl_m2t.model.location import Location
+from earl_m2t.model.scope import Scope
+from tests.support.paths import SAMPLE
 
-from earl_m2t.api import load  # noqa: E402
-from earl_m2t.model.conditions import ConditionResolver, parse_condition  # noqa: E402
-from earl_m2t.model.elements import Condition, EarlModel, Subsystem  # noqa: E402
-from earl_m2t.model.location import Location  # noqa: E402
-
-SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 TEXT = "newJointPos/pp and manipulatorCommand/ib.msg.nowhere > 1 and ghost/pp"
 
 
@@ -27,51 +23,53 @@ def _manipulator() -> tuple[EarlModel, Subsystem]:
     return model, next(s for s in model.subsystems if s.path == "manip/a.cs")
 
 
-def _problems(model: EarlModel, sub: Subsystem, condition: Condition) -> list[tuple[str, Location]]:
-    expr, problem = parse_condition(condition)
-    assert expr is not None and problem is None
-    return [(p.message, p.location) for p in ConditionResolver(model, sub).problems(expr, condition)]
+def _scope(lifter: ConditionLifter, sub: Subsystem) -> Scope:
+    return lifter.scope(sub.buffers, sub.memory, sub.predicates)
 
 
-def _condition(line: int) -> Condition:
-    return Condition(TEXT, "", Location("m.uml", line, 0, f"id{line}"), "x", "ic")
+def _problems(lifter: ConditionLifter, scope: Scope, line: int) -> list[tuple[str, Location]]:
+    condition = lifter.resolve(Condition(TEXT, "", Location("m.uml", line, 0, f"id{line}"), "x", ConditionRole.IC),
+                               scope)
+    assert condition is not None and condition.expr is not None
+    assert all(p.kind is ProblemKind.REFERENCE for p in condition.problems)
+    return [(p.message, p.location) for p in condition.problems]
 
 
-def _answers(model: EarlModel) -> int:
-    shared = model.derived.get("condition-problems")
-    assert isinstance(shared, dict)
-    return len(shared)
-
-
-def test_a_twin_gets_the_answers_at_its_own_condition_from_one_walk() -> None:
+def test_a_twin_shares_the_scope_and_gets_the_answers_at_its_own_condition() -> None:
     model, sub = _manipulator()
-    first = _problems(model, sub, _condition(10))
+    lifter = ConditionLifter(model.datatypes)
     twin = dataclasses.replace(sub, path="twin/a.cs", agent="twin/a", block_id=sub.block_id + "-twin")
-    second = _problems(model, twin, _condition(40))
+    scope = _scope(lifter, sub)
+    assert _scope(lifter, twin) is scope
+    first, second = _problems(lifter, scope, 10), _problems(lifter, scope, 40)
     assert [m for m, _ in first] == ["'manipulatorCommand/ib.msg.nowhere' names no field of its dataType",
                                      "unknown primitive predicate 'ghost/pp'"]
     assert [m for m, _ in second] == [m for m, _ in first]
     assert [loc.line for _, loc in first] == [10, 10] and [loc.line for _, loc in second] == [40, 40]
     assert [loc.xmi_id for _, loc in second] == ["id40", "id40"]
     assert [loc.column for _, loc in second] == [loc.column for _, loc in first] != [0, 0]
-    assert _answers(model) == 1
 
 
-def test_a_subsystem_that_names_other_things_gets_answers_of_its_own() -> None:
+def test_a_subsystem_that_names_other_things_gets_a_scope_and_answers_of_its_own() -> None:
     model, sub = _manipulator()
-    _problems(model, sub, _condition(10))
-    with_ghost = dataclasses.replace(sub, predicates=sub.predicates + (
-        dataclasses.replace(sub.predicates[0], name="ghost/pp", path=f"{sub.path}.ghost/pp"),))
-    assert [m for m, _ in _problems(model, with_ghost, _condition(10))] == [
+    lifter = ConditionLifter(model.datatypes)
+    scope = _scope(lifter, sub)
+    ghost = sub.predicates + (dataclasses.replace(sub.predicates[0], name="ghost/pp", path=f"{sub.path}.ghost/pp"),)
+    with_ghost = lifter.scope(sub.buffers, sub.memory, ghost)
+    assert with_ghost is not scope
+    assert [m for m, _ in _problems(lifter, with_ghost, 10)] == [
         "'manipulatorCommand/ib.msg.nowhere' names no field of its dataType"]
     retyped = tuple(dataclasses.replace(b, datatype="Real") if b.name == "manipulatorCommand/ib" else b
-                    for b in sub.inputs)
+                    for b in sub.buffers)
+    other = lifter.scope(retyped, sub.memory, sub.predicates)
+    assert other is not scope
     assert "'manipulatorCommand/ib.msg.nowhere' names no field of its dataType" in [
-        m for m, _ in _problems(model, dataclasses.replace(sub, inputs=retyped), _condition(10))]
-    assert _answers(model) == 3
+        m for m, _ in _problems(lifter, other, 10)]
 
 
-def test_a_changed_model_does_not_carry_the_answers_over() -> None:
-    model, _ = _manipulator()
-    model.derived["condition-problems"] = {"stale": ()}
-    assert "condition-problems" not in dataclasses.replace(model, name="other").derived
+def test_the_lifted_model_holds_each_condition_resolved() -> None:
+    model, sub = _manipulator()
+    assert sub.scope is not None
+    conditions = list(sub.conditions())
+    assert conditions and all(c.expr is not None and c.expanded is not None and not c.problems for c in conditions)
+    assert all(s.scope is not None for s in model.subsystems)

@@ -21,13 +21,13 @@ from tests.support.fsm_builder import build  # noqa: E402
 
 
 def _overlaps(model: EarlModel, sub: Subsystem) -> dict[str, list[tuple[str, str, str]]]:
-    analysis = GuardAnalysis(model, sub)
+    analysis = GuardAnalysis(sub, model.datatypes)
     assert sub.fsm is not None
     return {s.name: [(o.first.name, o.second.name, o.witness) for o in analysis.overlaps(s)] for s in sub.fsm.states}
 
 
 def _gaps(model: EarlModel, sub: Subsystem) -> dict[str, str | None]:
-    analysis = GuardAnalysis(model, sub)
+    analysis = GuardAnalysis(sub, model.datatypes)
     assert sub.fsm is not None
     found = {s.name: analysis.gap(s) for s in sub.fsm.states}
     return {name: gap.witness if gap else None for name, gap in found.items()}
@@ -259,7 +259,7 @@ def test_agrees_with_brute_force(seed: int) -> None:
     truth = [{**{n: brute.truth(ic, a) for n, ic in ics.items()}, "#tc": brute.truth(tc, a), "#ec": brute.truth(ec, a)}
              for a in worlds]
 
-    analysis = GuardAnalysis(model, sub)
+    analysis = GuardAnalysis(sub, model.datatypes)
     state = sub.fsm.states[0]
     found = {(o.first.name, o.second.name): o.witness for o in analysis.overlaps(state)}
     expected = set()
@@ -301,6 +301,6 @@ def test_overlaps_of_one_state_stop_at_the_limit() -> None:
     model, sub = build(PREDICATES, states, [("idle", f"s{k}", None, 0) for k in range(12)])
     assert sub.fsm is not None
     idle = sub.fsm.states[0]
-    analysis = GuardAnalysis(model, sub)
+    analysis = GuardAnalysis(sub, model.datatypes)
     assert len(list(analysis.overlaps(idle, limit=1000))) == 12 * 11 // 2
     assert len(list(analysis.overlaps(idle))) == MAX_OVERLAPS_PER_STATE < 66

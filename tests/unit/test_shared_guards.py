@@ -5,19 +5,14 @@ differs in a guard, a priority or a buffer's data type gets an analysis of its o
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-
-from earl_m2t.analysis.guards import GuardAnalysis  # noqa: E402
-from earl_m2t.analysis.shared_guards import SharedGuards  # noqa: E402
-from earl_m2t.api import load  # noqa: E402
-from earl_m2t.model.elements import Condition, EarlModel, Subsystem, Transition  # noqa: E402
-
-SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+from earl_m2t.analysis.guards import GuardAnalysis
+from earl_m2t.analysis.shared_guards import SharedGuards, model_guards
+from earl_m2t.api import load
+from earl_m2t.lift.conditions import resolve_subsystem
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.elements import EarlModel, Subsystem, Transition
+from tests.support.paths import SAMPLE
 
 
 def _manipulator() -> tuple[EarlModel, Subsystem]:
@@ -27,8 +22,9 @@ def _manipulator() -> tuple[EarlModel, Subsystem]:
     return model, dataclasses.replace(sub, exclusions=())
 
 
-def _twin(sub: Subsystem, **transition_changes: object) -> Subsystem:
-    """A copy of ``sub`` under another path; ``transition_changes`` apply to idle,jointMove/t."""
+def _twin(model: EarlModel, sub: Subsystem, **transition_changes: object) -> Subsystem:
+    """A copy of ``sub`` under another path, resolved as the lift resolves it;
+    ``transition_changes`` apply to idle,jointMove/t."""
     assert sub.fsm is not None
 
     def copy(t: Transition) -> Transition:
@@ -36,22 +32,23 @@ def _twin(sub: Subsystem, **transition_changes: object) -> Subsystem:
         return dataclasses.replace(t, path=t.path.replace("manip/a", "twin/a"), **changes)  # type: ignore[arg-type]
 
     fsm = dataclasses.replace(sub.fsm, transitions=tuple(copy(t) for t in sub.fsm.transitions))
-    return dataclasses.replace(sub, path="twin/a.cs", agent="twin/a", block_id=sub.block_id + "-twin", fsm=fsm)
+    twin = dataclasses.replace(sub, path="twin/a.cs", agent="twin/a", block_id=sub.block_id + "-twin", fsm=fsm)
+    return resolve_subsystem(twin, model.datatypes)
 
 
 def _overlaps(model: EarlModel, sub: Subsystem) -> list[tuple[Transition, Transition, str]]:
-    guards = SharedGuards(model, sub)
+    guards = SharedGuards(model_guards(model), sub)
     assert sub.fsm is not None
     return [(o.first, o.second, o.witness) for i in range(len(sub.fsm.states)) for o in guards.overlaps(i)]
 
 
 def _analyses(model: EarlModel) -> int:
-    return sum(1 for key in model.derived if key[0] == "guard-answers")
+    return len(model_guards(model).answers)
 
 
 def test_a_twin_gets_the_same_witnesses_on_its_own_transitions_from_one_analysis() -> None:
     model, sub = _manipulator()
-    twin = _twin(sub)
+    twin = _twin(model, sub)
     original, copied = _overlaps(model, sub), _overlaps(model, twin)
     assert [w for _, _, w in original] == ["newJointPos ∧ newOperationalPos ∧ ¬emergencyStop"]
     assert [w for _, _, w in copied] == [w for _, _, w in original]
@@ -63,13 +60,13 @@ def test_a_twin_gets_the_same_witnesses_on_its_own_transitions_from_one_analysis
 
 def test_answers_equal_those_of_an_analysis_of_its_own() -> None:
     model, sub = _manipulator()
-    twin = _twin(sub)
+    twin = _twin(model, sub)
     _overlaps(model, sub)
     assert twin.fsm is not None
-    alone = GuardAnalysis(model, twin)
+    alone = GuardAnalysis(twin, model.datatypes)
     expected = [(o.first, o.second, o.witness) for s in twin.fsm.states for o in alone.overlaps(s)]
     assert _overlaps(model, twin) == expected
-    guards = SharedGuards(model, twin)
+    guards = SharedGuards(model_guards(model), twin)
     for position, state in enumerate(twin.fsm.states):
         own, shared = alone.gap(state), guards.gap(position)
         assert (own is None) == (shared is None)
@@ -83,8 +80,8 @@ def test_a_different_guard_or_priority_is_analysed_on_its_own() -> None:
     condition = next(t.condition for t in sub.fsm.transitions if t.name == "idle,jointMove/t")  # type: ignore[union-attr]
     assert isinstance(condition, Condition)
     exclusive = dataclasses.replace(condition, text=condition.text + " ∧ ¬newOperationalPos/pp.fun")
-    assert _overlaps(model, _twin(sub, condition=exclusive)) == []
-    assert _overlaps(model, _twin(sub, priority=5)) == []
+    assert _overlaps(model, _twin(model, sub, condition=exclusive)) == []
+    assert _overlaps(model, _twin(model, sub, priority=5)) == []
     assert _analyses(model) == 3
 
 
@@ -94,5 +91,5 @@ def test_a_buffer_of_another_shape_is_analysed_on_its_own() -> None:
     retyped = tuple(dataclasses.replace(b, datatype="Real") if b.name == "manipulatorCommand/ib" else b
                     for b in sub.inputs)
     assert any(b.datatype == "Real" for b in retyped)
-    _overlaps(model, dataclasses.replace(_twin(sub), inputs=retyped))
+    _overlaps(model, resolve_subsystem(dataclasses.replace(_twin(model, sub), inputs=retyped), model.datatypes))
     assert _analyses(model) == 2

@@ -60,5 +60,5 @@ def test_a_finding_is_matched_by_the_path_of_the_annotated_element(tmp_path: Pat
     elsewhere = Diagnostic("C006", Severity.ERROR, "a finding located elsewhere", Location(str(path), 3, 0, "_x"),
                            link.path)
     other = Diagnostic("C006", Severity.ERROR, "another element", Location(str(path), 3, 0, "_x"), "task/a")
-    kept = apply_suppressions([elsewhere, other], loaded.suppressions, loaded.model, CheckOptions())
+    kept = apply_suppressions([elsewhere, other], loaded.model, CheckOptions())
     assert kept == [other]

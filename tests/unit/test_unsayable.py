@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from earl_m2t.api import check
-from earl_m2t.model.conditions import parse_condition
-from earl_m2t.model.elements import Condition
+from earl_m2t.lift.conditions import parse_condition
+from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.location import Location
 from earl_m2t.predicate.unsayable import unsayable, unsayable_reason
 
@@ -26,7 +26,7 @@ def test_the_reason_is_kept_and_other_texts_are_left_alone() -> None:
 
 
 def test_markup_in_a_body_stays_a_syntax_error() -> None:
-    expr, problem = parse_condition(Condition("<b>x</b>", "EARL", Location("m.uml", 3), "t", "ic"))
+    expr, problem = parse_condition(Condition("<b>x</b>", "EARL", Location("m.uml", 3), "t", ConditionRole.IC))
     assert expr is None and problem is not None
     assert problem.message.startswith("initial condition does not parse: ")
 

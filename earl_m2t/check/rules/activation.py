@@ -7,7 +7,6 @@ import math
 from typing import Iterator
 
 from earl_m2t.check.registry import Finding, rule
-from earl_m2t.model.conditions import conditions_of, parse_condition
 from earl_m2t.model.elements import RECEIVE_MODES, Buffer, EarlModel, State, Subsystem
 from earl_m2t.predicate import FieldRef, NewData
 from earl_m2t.predicate.walk import walk
@@ -107,11 +106,10 @@ def _one_shot_inputs(model: EarlModel, sub: Subsystem) -> dict[str, str]:
     """Input Buffers carrying a one-shot command, an optional field whose new data a condition
     tests (``newData(x/ib.msg.setpoint)``): buffer name or template → the element testing it."""
     found: dict[str, str] = {}
-    for condition in conditions_of(sub):
-        expr, problem = parse_condition(condition)
-        if expr is None or problem is not None:
+    for condition in sub.conditions():
+        if condition.expr is None:
             continue
-        for node in walk(expr):
+        for node in walk(condition.expr):
             if isinstance(node, NewData) and _optional_field(model, sub, node.ref):
                 found.setdefault(node.ref.head, condition.owner)
     return found

@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import Iterator
 
 from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE
-from earl_m2t.analysis.shared_guards import SharedGuards
+from earl_m2t.analysis.shared_guards import SharedGuards, shared_guards
 from earl_m2t.check.registry import Finding, rule
-from earl_m2t.model.conditions import ConditionResolver, conditions_of, parse_condition
+from earl_m2t.model.conditions import ProblemKind
 from earl_m2t.model.elements import EarlModel, State
 from earl_m2t.model.graph import unreachable_states
 
@@ -65,17 +65,14 @@ def unreachable_state(model: EarlModel) -> Iterator[Finding]:
 @rule("B005")
 def predicate_unknown_reference(model: EarlModel) -> Iterator[Finding]:
     for sub in model.definitions():
-        resolver = ConditionResolver(model, sub)
-        for condition in conditions_of(sub):
-            expr, problem = parse_condition(condition)
-            if expr is None:
-                continue
-            for found in resolver.problems(expr, condition):
-                column = f" (column {found.location.column})" if found.location.column else ""
-                yield Finding(f"{condition.owner}: {found.message}{column}", found.location, condition.owner)
+        for condition in sub.conditions():
+            for found in condition.problems:
+                if found.kind is ProblemKind.REFERENCE:
+                    column = f" (column {found.location.column})" if found.location.column else ""
+                    yield Finding(f"{condition.owner}: {found.message}{column}", found.location, condition.owner)
         for exclusion in sub.exclusions:
             for name in exclusion.predicates:
-                if resolver.predicate(name) is None:
+                if sub.scope is None or sub.scope.predicate(name) is None:
                     yield Finding(f"exclusion '{exclusion.name}' of {sub.path} names unknown primitive predicate "
                                   f"'{name}'", exclusion.location, f"{sub.path}.{exclusion.name}")
 
@@ -83,8 +80,8 @@ def predicate_unknown_reference(model: EarlModel) -> Iterator[Finding]:
 @rule("B008")
 def predicate_syntax_error(model: EarlModel) -> Iterator[Finding]:
     for sub in model.definitions():
-        for condition in conditions_of(sub):
-            _, problem = parse_condition(condition)
+        for condition in sub.conditions():
+            problem = condition.syntax_problem
             if problem is not None:
                 yield Finding(f"{condition.owner}: {problem.message}", problem.location, condition.owner)
 
@@ -93,10 +90,7 @@ def _guarded_states(model: EarlModel) -> Iterator[tuple[SharedGuards, int, State
     for sub in model.definitions():
         if sub.fsm is None or not sub.fsm.states:
             continue
-        key = ("shared-guards", sub.block_id)
-        guards = model.derived.get(key)
-        if not isinstance(guards, SharedGuards):  # B006 and B007 ask the same subsystem
-            guards = model.derived[key] = SharedGuards(model, sub)
+        guards = shared_guards(model, sub)  # B006 and B007 ask the same subsystem
         for position, state in enumerate(sub.fsm.states):
             yield guards, position, state
 

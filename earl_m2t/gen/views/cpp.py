@@ -15,9 +15,10 @@ from typing import Any
 from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
-from earl_m2t.model.conditions import ConditionResolver, parse_condition
-from earl_m2t.model.elements import Activation, Buffer, Condition, EarlModel, Memory, Subsystem
-from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, expand_replicated, walk
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.elements import Activation, Buffer, EarlModel, Memory, Subsystem
+from earl_m2t.model.naming import stem
+from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, walk
 
 Data = dict[str, Any]
 
@@ -227,18 +228,18 @@ class _Builder:
             storage[buf.name] = Storage(cpp, buf.datatype, port["kind"])
         memories: dict[str, Data] = {}
         for mem in sub.memory:
-            stem = _stem(mem.template)
-            if stem in memories:
-                memories[stem]["count"] += 1
+            descriptive = stem(mem.template)
+            if descriptive in memories:
+                memories[descriptive]["count"] += 1
                 continue
-            base = scope.take(stem, "_m", "_mi", "_mo", "_count")
-            memories[stem] = {"trace": mem.path, "member": f"{base}_m", "read": f"{base}_mi", "write": f"{base}_mo",
+            base = scope.take(descriptive, "_m", "_mi", "_mo", "_count")
+            memories[descriptive] = {"trace": mem.path, "member": f"{base}_m", "read": f"{base}_mi", "write": f"{base}_mo",
                               "count_name": f"{base}_count",
                               "type": self.cpp_type(mem.datatype, mem.path), "replicated": bool(mem.index),
                               "count": 1, "comment": cpp_comment(mem.template)}
         for mem in sub.memory:
-            data = memories[_stem(mem.template)]
-            storage[f"m:{_stem(mem.name)}"] = Storage(
+            data = memories[stem(mem.template)]
+            storage[f"m:{stem(mem.name)}"] = Storage(
                 f"data_.{data['member']}" + (f"[{mem.index - 1}]" if mem.index else ""), mem.datatype, "m")
         for port in ports.values():
             port["count_name"] = f"{port['member']}_count"
@@ -260,16 +261,15 @@ class _Builder:
             calls[pp.name] = f"{pp_ids[pp.name]}()"
         symbols = Symbols(storage, calls, self.field_names, self.target.unbounded_capacity)
         compiler = ExprCompiler(self.model, sub, symbols)
-        parsed: dict[str, Expr] = {}
+        parsed: dict[str, Expr] = {}  # the expanded condition of each element compiled, by its name in errors
 
         def compile_condition(condition: Condition | None, default: bool, what: str) -> str:
             if condition is None:
                 return "true" if default else "false"
-            expr, problem = parse_condition(condition)
-            if expr is None:
-                raise GenError(f"{what}: {problem.message if problem else 'does not parse'}")
-            parsed[what] = expr
-            return compiler.compile(expr, what)
+            compiled = compiler.compile(condition, what)
+            assert condition.expanded is not None
+            parsed[what] = condition.expanded
+            return compiled
 
         for pp in sub.predicates:
             ident = pp_ids[pp.name]
@@ -358,13 +358,12 @@ class _Builder:
             behaviours[bb_index[states[state_index[tr.source]].behaviours[0]]]["conditions"].append(tr.path)
         # inputs received by a behaviour: those its pf read, and those its own conditions
         # (tc, ec, and the guards leaving its states) read, so they can see new data
-        resolver = ConditionResolver(self.model, sub)
         by_name = {b.name: b for b in sub.buffers}
         for row in behaviours:
             received = set(row.pop("receive_paths"))
             for what in row.pop("conditions"):
                 if what in parsed:
-                    received |= {by_name[name].path for name in self._inputs_of(parsed[what], sub, resolver, parsed)
+                    received |= {by_name[name].path for name in self._inputs_of(parsed[what], sub, parsed)
                                  if name in by_name and by_name[name].direction == "in"}
             row["receives"] = _port_list(ports, [b for b in sub.inputs if b.path in received])
 
@@ -383,10 +382,10 @@ class _Builder:
             "block_id": sub.block_id, "port_members": {t: p["member"] for t, p in ports.items()},
         }
 
-    def _inputs_of(self, expr: Expr, sub: Subsystem, resolver: ConditionResolver, parsed: dict[str, Expr],
+    def _inputs_of(self, expanded: Expr, sub: Subsystem, parsed: dict[str, Expr],
                    seen: frozenset[str] = frozenset()) -> set[str]:
-        """Buffer names a condition reads, through the primitive predicates it calls."""
-        expanded = expand_replicated(expr, lambda node: resolver.replication_count(node) or None)
+        """Buffer names an expanded condition reads, through the primitive predicates it calls."""
+        assert sub.scope is not None
         names: set[str] = set()
         for node in walk(expanded):
             if isinstance(node, FieldRef):
@@ -394,13 +393,13 @@ class _Builder:
             elif isinstance(node, NewData):
                 names.add(node.ref.head)
             elif isinstance(node, PredicateRef):
-                pp_name = resolver.predicate(node.name)
+                pp_name = sub.scope.predicate(node.name)
                 if pp_name is None:
                     names.add(node.name)
                 elif pp_name not in seen:
                     pp = sub.predicate(pp_name)
                     if pp is not None and pp.fun is not None and pp.path in parsed:
-                        names |= self._inputs_of(parsed[pp.path], sub, resolver, parsed, seen | {pp_name})
+                        names |= self._inputs_of(parsed[pp.path], sub, parsed, seen | {pp_name})
                     elif pp is not None and pp.fun is None:
                         names |= {b.name for b in sub.inputs}  # user code may read any input
         return names
@@ -424,7 +423,7 @@ class _Builder:
                                "count_name": port["count_name"], "mutable": writing and port["kind"] == "ob",
                                "comment": cpp_comment(buf.template)})
             elif path in mem_paths:
-                mem = memories[_stem(mem_paths[path].template)]
+                mem = memories[stem(mem_paths[path].template)]
                 key = f"mem:{mem['member']}:{writing}"
                 if key in seen:
                     continue
@@ -515,10 +514,6 @@ def _nanoseconds(seconds: float | None) -> int:
     if seconds is None or not math.isfinite(seconds) or seconds < 0:
         return -1
     return round(seconds * 1e9)
-
-
-def _stem(name: str) -> str:
-    return name.rpartition("/")[0] if "/" in name else name
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:

@@ -22,7 +22,8 @@ from xml.sax.saxutils import escape
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import cpp_identifier, is_reserved
 from earl_m2t.gen.views.fabric_conditions import ConditionWriter
-from earl_m2t.model.elements import BufferGroup, DataType, EarlModel, State, Subsystem
+from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.elements import BufferGroup, EarlModel, State, Subsystem
 from earl_m2t.predicate import split_name
 
 Data = dict[str, Any]
@@ -104,7 +105,7 @@ def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: 
 
     names = FabricNames(target, in_conditions=True)
     pp_names = {pp.name: names.take(pp.name) for pp in sub.predicates}
-    writer = ConditionWriter(model, sub, names, pp_names)
+    writer = ConditionWriter(sub, names, pp_names)
 
     components = FabricNames(target)
     pf_names = {pf["role"]: components.take(pf["model_name"]) for pf in pfs}

@@ -14,8 +14,8 @@ from typing import Protocol
 
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import cpp_identifier
-from earl_m2t.model.conditions import ConditionResolver, parse_condition
-from earl_m2t.model.elements import Condition, EarlModel, Subsystem
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.elements import Subsystem
 from earl_m2t.predicate import (
     And,
     Const,
@@ -23,9 +23,7 @@ from earl_m2t.predicate import (
     Not,
     Or,
     PredicateRef,
-    Replicated,
     evaluate_atoms,
-    expand_replicated,
     format_predicate,
 )
 
@@ -41,8 +39,9 @@ class Names(Protocol):
 class ConditionWriter:
     """EARL conditions of one subsystem as FABRIC condition text."""
 
-    def __init__(self, model: EarlModel, sub: Subsystem, predicates: Names, pp_names: dict[str, str]) -> None:
-        self.resolver = ConditionResolver(model, sub)
+    def __init__(self, sub: Subsystem, predicates: Names, pp_names: dict[str, str]) -> None:
+        assert sub.scope is not None, "a lifted subsystem"
+        self.scope = sub.scope
         self.names = predicates
         self.pp_names = pp_names
         self.derived: dict[str, str] = {}  # atom text -> FABRIC predicate name, in order of use
@@ -64,13 +63,10 @@ class ConditionWriter:
     def expression(self, condition: Condition | None, default: bool, what: str) -> Expr:
         if condition is None:
             return Const(default)
-        expr, problem = parse_condition(condition)
-        if expr is None:
+        if condition.expanded is None:
+            problem = condition.syntax_problem
             raise GenError(f"{what}: {problem.message if problem else 'does not parse'}")
-        return expand_replicated(expr, self._count)
-
-    def _count(self, node: Replicated) -> int | None:
-        return self.resolver.replication_count(node) or None
+        return condition.expanded
 
     def _expr(self, node: Expr, top: bool = False) -> str:
         if isinstance(node, Const):
@@ -82,7 +78,7 @@ class ConditionWriter:
             text = op.join(self._operand(o) for o in node.operands)
             return text if top else f"({text})"
         if isinstance(node, PredicateRef):
-            pp = self.resolver.predicate(node.name)
+            pp = self.scope.predicate(node.name)
             if pp is not None:
                 return self.pp_names[pp]
         return self._atom(node)

@@ -20,8 +20,9 @@ from typing import Any
 
 from earl_m2t import resources
 from earl_m2t.gen.views.anchors import AnchorIndex
-from earl_m2t.model.conditions import parse_condition
-from earl_m2t.model.elements import SUBSYSTEM_KINDS, Activation, Agent, Condition, EarlModel, Link, Subsystem
+from earl_m2t.model.conditions import Condition
+from earl_m2t.model.elements import SUBSYSTEM_KINDS, Activation, Agent, EarlModel, Link, Subsystem
+from earl_m2t.model.naming import stem
 from earl_m2t.predicate import format_predicate
 
 
@@ -256,8 +257,7 @@ def condition_text(condition: Condition | None) -> str:
     """A condition printed with ∧ ∨ ¬, its text as written when it does not parse, "" when absent."""
     if condition is None:
         return ""
-    expr, _problem = parse_condition(condition)
-    return format_predicate(expr) if expr is not None else condition.text.strip()
+    return format_predicate(condition.expr) if condition.expr is not None else condition.text.strip()
 
 
 def _agent_type(model: EarlModel, agent: Agent, anchors: AnchorIndex) -> AgentTypeRow:
@@ -358,8 +358,8 @@ def _composition(behaviours: tuple[BehaviourRow, ...], functions: tuple[Function
                     function_anchor=pf.anchor if pf is not None else "",
                     memory=tuple(m.name in writes for m in memory),
                     outputs=tuple(o.name in writes for o in outputs)))
-    return Composition(memory_columns=tuple(_stem(m.name) for m in memory),
-                       output_columns=tuple(_stem(o.name) for o in outputs), rows=tuple(rows))
+    return Composition(memory_columns=tuple(stem(m.name) for m in memory),
+                       output_columns=tuple(stem(o.name) for o in outputs), rows=tuple(rows))
 
 
 def _storage(model: EarlModel, items: tuple[Any, ...], kind: str, child: Any) -> tuple[StorageRow, ...]:
@@ -392,10 +392,6 @@ def _link(model: EarlModel, link: Link, anchors: AnchorIndex) -> LinkRow:
     return LinkRow(name=link.name, anchor=anchors.add(link.path), source=link.source or link.ends[0],
                    target=link.target or link.ends[1],
                    datatype=_datatype(model, datatype.datatype, datatype.type_ref) if datatype is not None else "?")
-
-
-def _stem(name: str) -> str:
-    return name.rpartition("/")[0] if "/" in name else name
 
 
 def _unique(items: Any) -> tuple[str, ...]:
