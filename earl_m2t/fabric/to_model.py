@@ -26,7 +26,6 @@ from earl_m2t.lift.conditions import resolve_subsystem
 from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
-    SUBSYSTEM_KINDS,
     Activation,
     Agent,
     BasicBehaviour,
@@ -43,6 +42,7 @@ from earl_m2t.model.elements import (
     System,
     Transition,
 )
+from earl_m2t.model.kinds import SUBSYSTEM_KINDS, DataTypeKind, Direction, LinkScope, SubsystemKind
 from earl_m2t.model.location import Location
 from earl_m2t.predicate import format_predicate
 
@@ -56,7 +56,7 @@ CODE = "C++"
 @dataclass(frozen=True)
 class _Names:
     agent: str
-    kind: str
+    kind: SubsystemKind
     part: str  # the subsystem's part name in its agent
 
 
@@ -67,13 +67,13 @@ def package_names(package: str) -> _Names:
             agent, _, rest = package.partition(marker)
             if agent and rest:
                 return _Names(agent, kind, f"{kind}_{rest}")
-    return _Names(package, "cs", "cs")
+    return _Names(package, SubsystemKind.CS, "cs")
 
 
-def _complete(kinds: list[str]) -> bool:
+def _complete(kinds: list[SubsystemKind]) -> bool:
     """The subsystems FABRIC's naming gives an agent make an EARL agent (rules S003-S005)."""
-    return (kinds.count("cs") == 1 and ("ve" in kinds) == ("re" in kinds)
-            and ("vr" in kinds) == ("rr" in kinds))
+    return (kinds.count(SubsystemKind.CS) == 1 and (SubsystemKind.VE in kinds) == (SubsystemKind.RE in kinds)
+            and (SubsystemKind.VR in kinds) == (SubsystemKind.RR in kinds))
 
 
 def agent_names(packages: Sequence[FabricPackage]) -> tuple[dict[str, _Names], list[str]]:
@@ -81,7 +81,7 @@ def agent_names(packages: Sequence[FabricPackage]) -> tuple[dict[str, _Names], l
     not complete among the imported ones: each becomes the control subsystem of an agent of its
     own name (FABRIC itself does not tell kinds apart)."""
     named = {p.name: package_names(p.name) for p in packages}
-    kinds: dict[str, list[str]] = {}
+    kinds: dict[str, list[SubsystemKind]] = {}
     for names in named.values():
         kinds.setdefault(names.agent, []).append(names.kind)
     notes: list[str] = []
@@ -89,7 +89,7 @@ def agent_names(packages: Sequence[FabricPackage]) -> tuple[dict[str, _Names], l
         if not _complete(kinds[names.agent]):
             notes.append(f"{package}: the packages of agent {names.agent} imported do not make an EARL agent "
                          f"(one cs, ve with re, vr with rr); imported as the control subsystem of agent {package}")
-            named[package] = _Names(package, "cs", "cs")
+            named[package] = _Names(package, SubsystemKind.CS, "cs")
     return named, notes
 
 
@@ -156,10 +156,10 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         key = message_types[buf.type]
         if key not in datatypes:
             name = key.split("::")[1]
-            datatypes[key] = DataType(name, key, "struct", location=_location(buf.where))
+            datatypes[key] = DataType(name, key, DataTypeKind.STRUCT, location=_location(buf.where))
         suffix = "ib" if buf.direction == "in" else "ob"
         buffer_name = f"{buf.alias}/{suffix}"
-        buffers.append(Buffer(name=buffer_name, path=f"{path}.{buffer_name}", direction=buf.direction,
+        buffers.append(Buffer(name=buffer_name, path=f"{path}.{buffer_name}", direction=Direction(buf.direction),
                               datatype=key, template=buffer_name, index=0, location=_location(buf.where),
                               recognised_by=RECOGNISED))
     inputs = {b.name.partition("/")[0]: b for b in buffers if b.direction == "in"}
@@ -232,7 +232,7 @@ def _links(packages: Sequence[FabricPackage], agents: dict[str, list[Subsystem]]
         sub = subsystems[package.name]
         by_alias = {(b.name.partition("/")[0], b.direction): b for b in sub.buffers}
         for alias, channel in package.channels:
-            for direction, table in (("out", writers), ("in", readers)):
+            for direction, table in ((Direction.OUT, writers), (Direction.IN, readers)):
                 buf = by_alias.get((alias, direction))
                 if buf is not None:
                     table.setdefault(channel, []).append((sub, buf))
@@ -246,7 +246,7 @@ def _links(packages: Sequence[FabricPackage], agents: dict[str, list[Subsystem]]
                 name = f"{channel}/l"
                 links.append(Link(name=name, path=f"{writer.agent if same_agent else ''}.{name}".lstrip("."),
                                   ends=(source.path, target.path), source=source.path, target=target.path,
-                                  scope="agent" if same_agent else "system",
+                                  scope=LinkScope.AGENT if same_agent else LinkScope.SYSTEM,
                                   owner=writer.agent if same_agent else "", template=name,
                                   location=source.location))
     return links

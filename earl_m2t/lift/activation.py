@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import re
 
+from earl_m2t.model.kinds import RECEIVE_MODES, ReceiveMode
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.model.elements import Activation, BufferGroup
 from earl_m2t.read.xmi import Element, RawModel
@@ -45,15 +46,16 @@ def _seconds(value: str | None) -> float | None:
 
 
 def receive_of(raw: RawModel, tags: dict[str, str]) -> tuple[str, int]:
-    """(receive mode, queue size) of an Input Buffer: ``("latest", 0)`` unless tagged."""
+    """(receive mode, queue size) of an Input Buffer: ``(LATEST, 0)`` unless tagged; a mode that
+    is none is kept as written (rule B011)."""
     mode = _tag(tags, "receive")
     size_text = _tag(tags, "queueSize")
-    receive = _literal(raw, mode) if mode else "latest"
+    receive = (_literal(raw, mode) if mode else "") or ReceiveMode.LATEST
     try:
         size = int(size_text) if size_text else 0
     except ValueError:
         size = -1
-    return receive or "latest", size
+    return next((known for known in RECEIVE_MODES if known == receive), receive), size
 
 
 def activation_of(tags: dict[str, str]) -> Activation:

@@ -22,6 +22,8 @@ from earl_m2t.model.elements import (
     Transition,
 )
 from earl_m2t.model.conditions import Condition, ConditionRole
+from earl_m2t.model.kinds import AccessMode
+from earl_m2t.model.naming import stem, suffix
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 PREDICATE_LANGUAGES = frozenset({"", "earl", "earl-predicate", "predicate"})
@@ -31,7 +33,8 @@ CONTROL_NODES = frozenset(
 )
 ACTION_TYPES = frozenset({"CallBehaviorAction", "OpaqueAction", "CallOperationAction"})
 PIN_FEATURES = frozenset({"argument", "result", "inputValue", "outputValue"})
-MEMORY_ACCESS_SUFFIXES = {"m": "", "mi": "read", "mo": "write"}
+MEMORY_ACCESS_SUFFIXES: dict[str, AccessMode | None] = {"m": None, "mi": AccessMode.READ, "mo": AccessMode.WRITE}
+PARAMETER_ACCESS = {"in": AccessMode.READ, "out": AccessMode.WRITE, "inout": AccessMode.READWRITE}
 CONDITION_FEATURES = ("ownedRule", "postcondition", "precondition")  # where tc and ec are looked for, in order
 CONDITION_NAMES = {"tc": "tc", "terminalcondition": "tc", "ec": "ec", "errorcondition": "ec"}
 
@@ -108,8 +111,7 @@ class BehaviourLifter:
         direction = param.get("direction") or "in"
         name = self.raw.name(param).strip()
         # the paper's mi / mo names say the access themselves; otherwise the direction does
-        mode = MEMORY_ACCESS_SUFFIXES.get(name.rpartition("/")[2] if "/" in name else "") or {
-            "in": "read", "out": "write", "inout": "readwrite"}.get(direction, "read")
+        mode = MEMORY_ACCESS_SUFFIXES.get(suffix(name)) or PARAMETER_ACCESS.get(direction, AccessMode.READ)
         foreign = ""
         local = name
         if "." in name:
@@ -127,16 +129,16 @@ class BehaviourLifter:
         return found
 
     def _resolve_storage(self, name: str) -> tuple[str, ...]:
-        stem, _, abbr = name.rpartition("/") if "/" in name else (name, "", "")
+        descriptive, abbr = stem(name), suffix(name)
         buffers = self.ctx.inputs + self.ctx.outputs
         if abbr in ("ib", "ob", ""):
-            hits = tuple(b.path for b in buffers if name in (b.name, b.template) or (not abbr and stem in (_stem(b.name), _stem(b.template))))
+            hits = tuple(b.path for b in buffers if name in (b.name, b.template)
+                         or (not abbr and descriptive in (stem(b.name), stem(b.template))))
             if hits:
                 return hits
         if abbr in MEMORY_ACCESS_SUFFIXES or not abbr:
-            return tuple(
-                m.path for m in self.ctx.memory if stem in (_stem(m.name), _stem(m.template)) or name in (m.name, m.template)
-            )
+            return tuple(m.path for m in self.ctx.memory
+                         if descriptive in (stem(m.name), stem(m.template)) or name in (m.name, m.template))
         return ()
 
     def predicates(self, block: Element) -> tuple[PrimitivePredicate, ...]:
@@ -396,10 +398,6 @@ def _reachable(start: int, successors: dict[int, list[int]]) -> set[int]:
                 seen.add(nxt)
                 stack.append(nxt)
     return seen
-
-
-def _stem(name: str) -> str:
-    return name.rpartition("/")[0] if "/" in name else name
 
 
 def parse_exclusive(text: str) -> list[str]:

@@ -7,6 +7,7 @@ from functools import cache
 
 from earl_m2t.lift.replication import multiplicity
 from earl_m2t.model.datatypes import DataType, Field
+from earl_m2t.model.kinds import DataTypeKind
 from earl_m2t.model.location import Location
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 from earl_m2t.resources import metamodel_path
@@ -63,7 +64,7 @@ class DataTypeLifter:
     def _builtin(self, name: str, kind: str) -> str:
         canonical = {"boolean": "Boolean", "integer": "Integer", "real": "Real", "string": "String"}[kind]
         if canonical not in self.datatypes:
-            self.datatypes[canonical] = DataType(canonical, canonical, "primitive", kind, location=BUILTIN)
+            self.datatypes[canonical] = DataType(canonical, canonical, DataTypeKind.PRIMITIVE, kind, location=BUILTIN)
         return canonical
 
     def lift(self, el: Element) -> str:
@@ -78,12 +79,12 @@ class DataTypeLifter:
         location = raw.location(el)
         if uml_type == "PrimitiveType":
             kind = primitive_kind(name) or "real"
-            self.datatypes[qualified] = DataType(name, qualified, "primitive", kind, location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.PRIMITIVE, kind, location=location)
         elif uml_type == "Enumeration":
             literals = tuple(raw.name(lit) for lit in raw.children(el, "ownedLiteral"))
-            self.datatypes[qualified] = DataType(name, qualified, "enumeration", literals=literals, location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.ENUMERATION, literals=literals, location=location)
         elif uml_type in _STRUCT_TYPES and primitive_kind(name) and not raw.children(el, "ownedAttribute"):
-            self.datatypes[qualified] = DataType(name, qualified, "primitive", primitive_kind(name), location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.PRIMITIVE, primitive_kind(name), location=location)
         else:
             fields = []
             for attr in raw.children(el, "ownedAttribute"):
@@ -92,7 +93,7 @@ class DataTypeLifter:
                 type_key, unresolved = self.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
                 fields.append(Field(raw.name(attr), type_key, lower, upper, raw.location(attr), unresolved))
-            self.datatypes[qualified] = DataType(name, qualified, "struct", fields=tuple(fields), location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.STRUCT, fields=tuple(fields), location=location)
         return qualified
 
     def _qualified_name(self, el: Element) -> str:

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
+from earl_m2t.model.naming import instance_name
 from earl_m2t.read.xmi import Element, RawModel
-
-PLACEHOLDER = "K"
 
 
 def multiplicity(raw: RawModel, el: Element) -> tuple[int, int | None]:
@@ -38,18 +37,6 @@ def instance_count(lower: int, upper: int | None) -> int:
     if upper is not None and lower == upper and upper > 1:
         return upper
     return 1
-
-
-def instance_name(template: str, index: int) -> str:
-    """``motorControllerK/ve``, 3 → ``motorController3/ve``; without K the index is appended."""
-    if "/" in template:
-        stem, _, suffix = template.rpartition("/")
-        tail = "/" + suffix
-    else:
-        stem, tail = template, ""
-    if stem.endswith(PLACEHOLDER):
-        stem = stem[: -len(PLACEHOLDER)]
-    return f"{stem}{index}{tail}"
 
 
 def expand(template: str, count: int) -> list[tuple[str, int]]:

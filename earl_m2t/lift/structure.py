@@ -25,6 +25,7 @@ from earl_m2t.model.elements import (
     Subsystem,
     System,
 )
+from earl_m2t.model.kinds import Direction, GroupKind, LinkScope, ReceiveMode, SubsystemKind
 from earl_m2t.read.connector_ends import EndTarget, resolve_end
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
@@ -195,7 +196,7 @@ class StructureLifter:
             held.append(GroupMember(self.raw.name(member), concept, self.raw.location(member)))
             if concept == "Agent":
                 agents.extend(self._agents(member, member_block, robot, part, prefix))
-        groups.append(Group(self.raw.name(part), path, "ga", self.raw.name(block), owner,
+        groups.append(Group(self.raw.name(part), path, GroupKind.AGENTS, self.raw.name(block), owner,
                             tuple(inst.agent.path for inst in agents), tuple(held), self.raw.location(part),
                             self.recogniser.recognise(block).route or "suffix"))
         return agents
@@ -234,7 +235,7 @@ class StructureLifter:
         for group_part, group_block, held, members in group_parts:
             links.extend(self._agent_links(group_block, path, instances))
             member_paths = tuple(i.subsystem.path for i in instances if any(i.part is m for m in members))
-            groups.append(Group(self.raw.name(group_part), f"{path}.{self.raw.name(group_part)}", "gs",
+            groups.append(Group(self.raw.name(group_part), f"{path}.{self.raw.name(group_part)}", GroupKind.SUBSYSTEMS,
                                 self.raw.name(group_block), path, member_paths, tuple(held),
                                 self.raw.location(group_part), self.recogniser.recognise(group_block).route or "suffix"))
         tags = self.recogniser.tags(block)
@@ -273,10 +274,10 @@ class StructureLifter:
             if attr_type == "Port" or concept in ("InputBuffer", "OutputBuffer"):
                 if concept not in ("InputBuffer", "OutputBuffer"):
                     continue
-                direction = "in" if concept == "InputBuffer" else "out"
+                direction = Direction.IN if concept == "InputBuffer" else Direction.OUT
                 datatype, unresolved = self.types.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
-                receive, queue_size = receive_of(raw, self.recogniser.tags(attr)) if direction == "in" else ("latest", 0)
+                receive, queue_size = receive_of(raw, self.recogniser.tags(attr)) if direction is Direction.IN else (ReceiveMode.LATEST, 0)
                 buffers = [
                     Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
                            recognition.route, unresolved, receive, queue_size)
@@ -318,7 +319,7 @@ class StructureLifter:
                 seen.add(bb.name)
                 unique.append(bb)
         subsystem = Subsystem(
-            name, path, kind, agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,
+            name, path, SubsystemKind(kind), agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,
             tuple(inputs), tuple(outputs), tuple(memory), fsm, tuple(unique), lifter.functions(block),
             predicates, lifter.exclusions(block), len(machines), raw.location(part), route,
             buffer_groups(raw, self.recogniser, block, path), scope,
@@ -350,7 +351,7 @@ class StructureLifter:
         links = []
         for connector in self.raw.in_connector_order(self.raw.children(block, "ownedConnector")):
             ends = [self._end_buffers(resolve_end(self.raw, e), parts) for e in self.raw.children(connector, "end")]
-            links.extend(self._links(connector, ends, "agent", agent_path))
+            links.extend(self._links(connector, ends, LinkScope.AGENT, agent_path))
         return links
 
     def _system_links(self, block: Element, system: str, agents: list[_AgentInstance],
@@ -362,7 +363,7 @@ class StructureLifter:
         links = []
         for connector in self.raw.in_connector_order(connectors):
             ends = [self._nested_end_buffers(e, agents) for e in self.raw.children(connector, "end")]
-            links.extend(self._links(connector, ends, "system", system))
+            links.extend(self._links(connector, ends, LinkScope.SYSTEM, system))
         return links
 
     def _nested_end_buffers(self, end: Element, agents: list[_AgentInstance]) -> list[str] | None:
@@ -388,7 +389,7 @@ class StructureLifter:
             found.extend(buffers)
         return found or None
 
-    def _links(self, connector: Element, ends: list[list[str] | None], scope: str, owner: str) -> list[Link]:
+    def _links(self, connector: Element, ends: list[list[str] | None], scope: LinkScope, owner: str) -> list[Link]:
         raw = self.raw
         name = raw.name(connector)
         location = raw.location(connector)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from earl_m2t.model.kinds import DataTypeKind
 from earl_m2t.model.location import Location
 
 
@@ -34,7 +35,7 @@ class DataType:
 
     name: str
     qualified_name: str
-    kind: str  # "primitive" | "enumeration" | "struct"
+    kind: DataTypeKind
     primitive: str = ""  # "boolean" | "integer" | "real" | "string" for primitives
     fields: tuple[Field, ...] = ()
     literals: tuple[str, ...] = ()

@@ -14,32 +14,31 @@ from typing import Iterator, Mapping
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.directives import LtlProperty, Suppression
+from earl_m2t.model.kinds import AccessMode, Direction, GroupKind, LinkScope, ReceiveMode, SubsystemKind
 from earl_m2t.model.location import Location
 from earl_m2t.model.scope import Scope
 
-SUBSYSTEM_KINDS = ("cs", "ve", "re", "vr", "rr")
-RECEIVE_MODES = ("latest", "queue")  # how an Input Buffer receives (Buffer.receive)
 
 
 @dataclass(frozen=True, slots=True)
 class Buffer:
     name: str
     path: str
-    direction: str  # "in" (Input Buffer) | "out" (Output Buffer)
+    direction: Direction
     datatype: str  # key into EarlModel.datatypes, "" when untyped or unresolved
     template: str  # name before replicated expansion (``motorControllerStateK/ib``)
     index: int  # 1..N for replicated instances, 0 otherwise
     location: Location
     recognised_by: str
     type_ref: str = ""  # the type reference as written when it did not resolve (rule D001)
-    # how an Input Buffer receives: "latest" keeps the newest value (EARL's default), "queue"
-    # keeps up to queue_size values in arrival order and reports an overflow
-    receive: str = "latest"
+    # how an Input Buffer receives: a ReceiveMode (a queue holds up to queue_size values), or the
+    # tag's value as written, which B011 reports
+    receive: str = ReceiveMode.LATEST
     queue_size: int = 0
 
     @property
     def abbreviation(self) -> str:
-        return "ib" if self.direction == "in" else "ob"
+        return "ib" if self.direction == Direction.IN else "ob"
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,7 +78,7 @@ class Access:
     """A pf's declared access to a buffer or memory: the parameter as written, and what it resolved to."""
 
     name: str
-    mode: str  # "read" | "write" | "readwrite"
+    mode: AccessMode
     targets: tuple[str, ...]  # paths of buffers/memory of its subsystem
     foreign: str  # path of a subsystem it names that is not its own, else ""
     location: Location
@@ -97,11 +96,11 @@ class PartialFunction:
 
     @property
     def reads(self) -> tuple[str, ...]:
-        return tuple(t for a in self.accesses if a.mode != "write" for t in a.targets)
+        return tuple(t for a in self.accesses if a.mode != AccessMode.WRITE for t in a.targets)
 
     @property
     def writes(self) -> tuple[str, ...]:
-        return tuple(t for a in self.accesses if a.mode != "read" for t in a.targets)
+        return tuple(t for a in self.accesses if a.mode != AccessMode.READ for t in a.targets)
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,7 +194,7 @@ class Fsm:
 class Subsystem:
     name: str
     path: str
-    kind: str  # one of SUBSYSTEM_KINDS
+    kind: SubsystemKind
     agent: str
     block: str  # name of the block that defines it
     block_id: str
@@ -265,7 +264,7 @@ class Link:
     ends: tuple[str, str]  # buffer paths in model order ("" for an end that is not a buffer)
     source: str  # the Output Buffer end, "" when none or both
     target: str  # the Input Buffer end, "" when none or both
-    scope: str  # "agent" (inter-subsystem) | "system" (inter-agent)
+    scope: LinkScope
     owner: str  # agent path for inter-subsystem links, system name otherwise
     template: str
     location: Location
@@ -291,7 +290,7 @@ class Group:
 
     name: str
     path: str
-    kind: str
+    kind: GroupKind
     block: str
     owner: str
     members: tuple[str, ...]
@@ -314,28 +313,28 @@ class Agent:
     recognised_by: str
     groups: tuple[Group, ...] = ()  # Subsystem Groups
 
-    def of_kind(self, kind: str) -> tuple[Subsystem, ...]:
+    def of_kind(self, kind: SubsystemKind) -> tuple[Subsystem, ...]:
         return tuple(s for s in self.subsystems if s.kind == kind)
 
     @property
     def cs(self) -> tuple[Subsystem, ...]:
-        return self.of_kind("cs")
+        return self.of_kind(SubsystemKind.CS)
 
     @property
     def ve(self) -> tuple[Subsystem, ...]:
-        return self.of_kind("ve")
+        return self.of_kind(SubsystemKind.VE)
 
     @property
     def re(self) -> tuple[Subsystem, ...]:
-        return self.of_kind("re")
+        return self.of_kind(SubsystemKind.RE)
 
     @property
     def vr(self) -> tuple[Subsystem, ...]:
-        return self.of_kind("vr")
+        return self.of_kind(SubsystemKind.VR)
 
     @property
     def rr(self) -> tuple[Subsystem, ...]:
-        return self.of_kind("rr")
+        return self.of_kind(SubsystemKind.RR)
 
 
 @dataclass(frozen=True, slots=True)

@@ -48,13 +48,24 @@ def suffix(name: str) -> str:
     return name.rpartition("/")[2] if "/" in name else ""
 
 
+PLACEHOLDER = "K"  # where a replicated element's template puts the instance number
+
+
+def instance_name(template: str, index: int) -> str:
+    """``motorControllerK/ve``, 3 → ``motorController3/ve``; without K the index is appended."""
+    descriptive, slash, abbreviation = template.rpartition("/") if "/" in template else (template, "", "")
+    if descriptive.endswith(PLACEHOLDER):
+        descriptive = descriptive[: -len(PLACEHOLDER)]
+    return f"{descriptive}{index}{slash}{abbreviation}"
+
+
 def instance_template(name: str) -> str:
     """The template an instance name belongs to: ``motorControllerState3/ib`` →
     ``motorControllerStateK/ib``; a name without a trailing number is returned as it is."""
     descriptive, slash, abbreviation = name.rpartition("/") if "/" in name else (name, "", "")
     digits = len(descriptive) - len(descriptive.rstrip("0123456789"))
     if digits and digits < len(descriptive):
-        return f"{descriptive[:-digits]}K{slash}{abbreviation}"
+        return f"{descriptive[:-digits]}{PLACEHOLDER}{slash}{abbreviation}"
     return name
 
 

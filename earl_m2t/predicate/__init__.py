@@ -28,7 +28,6 @@ from earl_m2t.predicate.ast import (
     Or,
     PredicateRef,
     Replicated,
-    split_name,
 )
 from earl_m2t.predicate.errors import PredicateSyntaxError
 from earl_m2t.predicate.printer import format_predicate
@@ -70,7 +69,6 @@ __all__ = [
     "join",
     "parse_predicate",
     "references",
-    "split_name",
     "substitute_index",
     "walk",
 ]

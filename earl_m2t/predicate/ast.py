@@ -11,6 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Literal, TypeAlias
 
+from earl_m2t.model.naming import split
+
 #: Name suffixes of buffers and memory: a name carrying one of them, written without a
 #: member (``.msg`` / ``.data``), is a field reference rather than a predicate reference.
 FIELD_SUFFIXES: frozenset[str] = frozenset({"ib", "ob", "m", "mi", "mo"})
@@ -73,12 +75,12 @@ class PredicateRef:
     @property
     def base(self) -> str:
         """The name without its ``/abbr`` suffix."""
-        return split_name(self.name)[0]
+        return split(self.name)[0]
 
     @property
     def suffix(self) -> str | None:
         """The ``abbr`` of ``name/abbr``, or None."""
-        return split_name(self.name)[1]
+        return split(self.name)[1]
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,12 +102,12 @@ class FieldRef:
     @property
     def base(self) -> str:
         """The head name without its ``/abbr`` suffix."""
-        return split_name(self.head)[0]
+        return split(self.head)[0]
 
     @property
     def suffix(self) -> str | None:
         """The ``abbr`` of the head ``name/abbr``, or None."""
-        return split_name(self.head)[1]
+        return split(self.head)[1]
 
 
 @dataclass(frozen=True, slots=True)
@@ -164,12 +166,6 @@ Expr: TypeAlias = (
 
 #: Any node of the tree (a :class:`Number` is not a boolean expression).
 Node: TypeAlias = Expr | Number
-
-
-def split_name(name: str) -> tuple[str, str | None]:
-    """Split ``descriptiveName/abbr`` into ``("descriptiveName", "abbr")``; no suffix → None."""
-    base, slash, suffix = name.partition("/")
-    return base, (suffix if slash else None)
 
 
 def children(node: Node) -> tuple[Node, ...]:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from typing import Literal
 
+from earl_m2t.model.naming import split
 from earl_m2t.predicate.ast import (
     FIELD_SUFFIXES,
     And,
@@ -21,7 +22,6 @@ from earl_m2t.predicate.ast import (
     Or,
     PredicateRef,
     Replicated,
-    split_name,
 )
 from earl_m2t.predicate.errors import PredicateSyntaxError
 
@@ -165,7 +165,7 @@ def _ellipsis_operands(rep: Replicated) -> tuple[Node, Node] | None:
 
 
 def _predicate_name(name: str) -> str:
-    base, suffix = split_name(name)
+    base, suffix = split(name)
     if suffix is None:
         keyword = base.lower() in ("true", "false") or base in _KEYWORD_NAMES
     else:

@@ -6,6 +6,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Literal, cast
 
+from earl_m2t.model.naming import split
 from earl_m2t.predicate.ast import (
     And,
     Compare,
@@ -21,7 +22,6 @@ from earl_m2t.predicate.ast import (
     PredicateRef,
     Replicated,
     children,
-    split_name,
 )
 from earl_m2t.predicate.errors import PredicateSyntaxError, where
 
@@ -73,7 +73,7 @@ def index_name(name: str, var: str, value: int | str) -> str:
     ``"motorControllerState3/ib"``; ``"Kinematics/ib"`` and a name that is just ``K``
     stay as they are.
     """
-    base, suffix = split_name(name)
+    base, suffix = split(name)
     if len(base) > len(var) and base.endswith(var):
         base = base[: -len(var)] + str(value)
     return base if suffix is None else f"{base}/{suffix}"
@@ -194,7 +194,7 @@ class _Unifier:
     def _name(self, a: Node, first: str, b: Node, last: str) -> str:
         if first == last:
             return first
-        (base1, suffix1), (base_n, suffix_n) = split_name(first), split_name(last)
+        (base1, suffix1), (base_n, suffix_n) = split(first), split(last)
         if suffix1 == suffix_n and len(base1) > 1 and len(base_n) > len(self.last_index):
             stem1, stem_n = base1[:-1], base_n[: -len(self.last_index)]
             ends1, ends_n = base1.endswith("1"), base_n.endswith(self.last_index)

@@ -7,7 +7,8 @@ import math
 from typing import Iterator
 
 from earl_m2t.check.registry import Finding, rule
-from earl_m2t.model.elements import RECEIVE_MODES, Buffer, EarlModel, State, Subsystem
+from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
+from earl_m2t.model.kinds import RECEIVE_MODES
 from earl_m2t.predicate import FieldRef, NewData
 from earl_m2t.predicate.walk import walk
 

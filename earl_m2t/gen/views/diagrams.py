@@ -22,7 +22,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from earl_m2t.gen.views.tables import SpecTables, SubsystemTables
-from earl_m2t.model.elements import SUBSYSTEM_KINDS, Agent, EarlModel
+from earl_m2t.model.elements import Agent, EarlModel
+from earl_m2t.model.kinds import SUBSYSTEM_KINDS
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ from earl_m2t.gen.names import cpp_identifier, is_reserved
 from earl_m2t.gen.views.fabric_conditions import ConditionWriter
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import BufferGroup, EarlModel, State, Subsystem
-from earl_m2t.predicate import split_name
+from earl_m2t.model.naming import split
 
 Data = dict[str, Any]
 
@@ -77,7 +77,7 @@ class FabricNames:
                 and name.lower() not in self.taken)
 
     def take(self, earl_name: str) -> str:
-        base = split_name(earl_name)[0]
+        base = split(earl_name)[0]
         name = base if self.usable(base) else cpp_identifier(earl_name)
         candidate, n = name, 1
         while not self.usable(candidate):
@@ -161,7 +161,7 @@ def _aliases(sub: Subsystem, group: BufferGroup, names: Iterable[str], inputs: l
     for name in names:
         matches = [b["alias"] for b in inputs
                    if name in (b["buffer"].name, b["buffer"].template)
-                   or split_name(name)[0] in (split_name(b["buffer"].name)[0], split_name(b["buffer"].template)[0])]
+                   or split(name)[0] in (split(b["buffer"].name)[0], split(b["buffer"].template)[0])]
         if not matches:
             raise GenError(f"{group.path}: the buffer group names {name}, not an Input Buffer of {sub.path}")
         found += [m for m in matches if m not in found]

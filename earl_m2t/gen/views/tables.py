@@ -21,7 +21,8 @@ from typing import Any
 from earl_m2t import resources
 from earl_m2t.gen.views.anchors import AnchorIndex
 from earl_m2t.model.conditions import Condition
-from earl_m2t.model.elements import SUBSYSTEM_KINDS, Activation, Agent, EarlModel, Link, Subsystem
+from earl_m2t.model.elements import Activation, Agent, EarlModel, Link, Subsystem
+from earl_m2t.model.kinds import SUBSYSTEM_KINDS
 from earl_m2t.model.naming import stem
 from earl_m2t.predicate import format_predicate
 

@@ -1,0 +1,54 @@
+"""The closed sets of values the lifted model's elements take: what kind of subsystem, which
+direction a buffer has, how it receives, what a link connects, what a group gathers, how a pf
+accesses a buffer, what a dataType is. Each is a ``StrEnum``: a member is its text (``"cs"``),
+in comparisons, f-strings, JSON and templates alike."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+
+
+class SubsystemKind(StrEnum):
+    CS = "cs"  # Control Subsystem
+    VE = "ve"  # Virtual Effector
+    RE = "re"  # Real Effector
+    VR = "vr"  # Virtual Receptor
+    RR = "rr"  # Real Receptor
+
+
+class Direction(StrEnum):
+    IN = "in"  # an Input Buffer
+    OUT = "out"  # an Output Buffer
+
+
+class ReceiveMode(StrEnum):
+    """How an Input Buffer receives (its tag ``receive``; another value is kept as written for B011)."""
+
+    LATEST = "latest"  # keeps the newest value (EARL's default)
+    QUEUE = "queue"  # keeps up to queueSize values in arrival order and reports an overflow
+
+
+class LinkScope(StrEnum):
+    AGENT = "agent"  # an inter-subsystem link, inside one agent
+    SYSTEM = "system"  # an inter-agent link
+
+
+class GroupKind(StrEnum):
+    AGENTS = "ga"  # an Agent Group (the authors' GpAgents)
+    SUBSYSTEMS = "gs"  # a Subsystem Group (GpSubsys)
+
+
+class AccessMode(StrEnum):
+    READ = "read"
+    WRITE = "write"
+    READWRITE = "readwrite"
+
+
+class DataTypeKind(StrEnum):
+    PRIMITIVE = "primitive"
+    ENUMERATION = "enumeration"
+    STRUCT = "struct"
+
+
+SUBSYSTEM_KINDS = tuple(SubsystemKind)
+RECEIVE_MODES = tuple(ReceiveMode)
