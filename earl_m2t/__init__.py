@@ -18,8 +18,9 @@ if TYPE_CHECKING:
     from earl_m2t.check.engine import CheckOptions
     from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 
-__all__ = ["CheckOptions", "Diagnostic", "Loaded", "ModelReadError", "Severity", "check", "load"]
-__version__ = "0.1.0"
+from earl_m2t.version import __version__
+
+__all__ = ["CheckOptions", "Diagnostic", "Loaded", "ModelReadError", "Severity", "__version__", "check", "load"]
 
 _HOME = {
     "CheckOptions": "earl_m2t.check.engine",

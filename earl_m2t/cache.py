@@ -52,7 +52,7 @@ def _package_stamp() -> str:
 
 
 def _key(source: Path) -> str:
-    from earl_m2t import __version__
+    from earl_m2t.version import __version__
 
     digest = hashlib.sha256(source.read_bytes())
     digest.update(f"{__version__}|{sys.version_info[:3]}|{pickle.HIGHEST_PROTOCOL}".encode())

@@ -12,7 +12,7 @@ import os
 import sys
 from typing import NoReturn, Sequence
 
-from earl_m2t import __version__
+from earl_m2t.version import __version__
 from earl_m2t.cli import check as check_command
 from earl_m2t.cli import convert as convert_command
 from earl_m2t.cli import diff as diff_command

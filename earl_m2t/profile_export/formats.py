@@ -24,7 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from earl_m2t import __version__
+from earl_m2t.version import __version__
 from earl_m2t.profile_export.spec import (
     DefaultValue,
     ProfileExportError,

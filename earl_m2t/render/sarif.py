@@ -36,7 +36,7 @@ def render_sarif(report: CheckReport, base: Path | None = None) -> str:
 
 
 def sarif_document(report: CheckReport, base: Path | None = None) -> dict[str, Any]:
-    import earl_m2t
+    from earl_m2t.version import __version__
 
     codes = rule_codes(report)
     index = {code: position for position, code in enumerate(codes)}
@@ -50,8 +50,8 @@ def sarif_document(report: CheckReport, base: Path | None = None) -> dict[str, A
     driver = {
         "name": "earl-m2t",
         "fullName": "earl-m2t check",
-        "version": earl_m2t.__version__,
-        "semanticVersion": earl_m2t.__version__,
+        "version": __version__,
+        "semanticVersion": __version__,
         "rules": [_rule(code) for code in codes],
     }
     return {
