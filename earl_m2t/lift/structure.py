@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from functools import partial
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.activation import buffer_groups, receive_of
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.conditions import ConditionLifter
+from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
@@ -19,36 +20,17 @@ from earl_m2t.model.elements import (
     Fsm,
     Group,
     GroupMember,
-    Link,
     Memory,
     Robot,
     Subsystem,
     System,
 )
-from earl_m2t.model.kinds import Direction, GroupKind, LinkScope, ReceiveMode, SubsystemKind
-from earl_m2t.read.connector_ends import EndTarget, resolve_end
+from earl_m2t.model.kinds import Direction, GroupKind, ReceiveMode, SubsystemKind
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 def computed_agent_type(has_e: bool, has_r: bool, has_t: bool) -> str:
     """Paper Table 2: C always, E with effectors, R with receptors, T with inter-agent links."""
     return "C" + ("E" if has_e else "") + ("R" if has_r else "") + ("T" if has_t else "")
-
-
-@dataclass
-class _SubsystemInstance:
-    """A lifted subsystem plus the raw part/port elements links are resolved against."""
-
-    subsystem: Subsystem
-    part: Element
-    ports: dict[int, list[Buffer]]  # id(port element) -> buffer instances
-
-
-@dataclass
-class _AgentInstance:
-    agent: Agent
-    part: Element
-    robot_part: Element | None  # the robot part holding the agent part, None directly in the system
-    subsystems: list[_SubsystemInstance]
 
 
 class StructureLifter:
@@ -65,6 +47,7 @@ class StructureLifter:
         self._templates: dict[str, tuple[str, str]] = {}  # instance path -> (template, instance name)
         self._owners: dict[str, tuple[str, str]] = {}  # buffer path -> (agent path, subsystem path)
         self._agent_group_blocks: list[Element] = []  # blocks of the Agent Groups met in the system
+        self.links = LinkLifter(raw, recogniser, self.diagnostics, self._outputs, self._owners, self._templates)
 
     # -- helpers -----------------------------------------------------------------------------
     def _note(self, code: str, severity: Severity, message: str, el: Element, element: str = "") -> None:
@@ -144,7 +127,7 @@ class StructureLifter:
         name = self.raw.name(block)
         recognition = self.recogniser.recognise(block)
         robots: list[Robot] = []
-        agents: list[_AgentInstance] = []
+        agents: list[AgentInstance] = []
         groups: list[Group] = []
         self._agent_group_blocks = []
         for part, part_type in self._parts(block):
@@ -171,7 +154,7 @@ class StructureLifter:
                 agents.extend(self._agents(part, part_type, "", None))
             elif concept == "AgentGroup":
                 agents.extend(self._agent_group(part, part_type, name, "", "", groups))
-        links = self._system_links(block, name, agents, self._agent_group_blocks)
+        links = self.links.system_links(block, name, agents, self._agent_group_blocks)
         linked_agents = {self._owners[end][0] for link in links for end in link.ends if end in self._owners}
         final_agents = []
         for inst in agents:
@@ -184,12 +167,12 @@ class StructureLifter:
                       recognition.route or "structure", tuple(groups))
 
     def _agent_group(self, part: Element, block: Element, owner: str, robot: str, prefix: str,
-                     groups: list[Group]) -> list[_AgentInstance]:
+                     groups: list[Group]) -> list[AgentInstance]:
         """The Agents of an Agent Group part; the group itself is added to ``groups``."""
         path = f"{prefix}{self.raw.name(part)}"
         if all(b is not block for b in self._agent_group_blocks):
             self._agent_group_blocks.append(block)
-        agents: list[_AgentInstance] = []
+        agents: list[AgentInstance] = []
         held: list[GroupMember] = []
         for member, member_block in self._parts(block):
             concept = self._part_concept(member, member_block, path)[0]
@@ -207,12 +190,12 @@ class StructureLifter:
 
     # -- agents ------------------------------------------------------------------------------
     def _agents(self, part: Element, block: Element, robot: str, robot_part: Element | None,
-                prefix: str = "") -> list[_AgentInstance]:
+                prefix: str = "") -> list[AgentInstance]:
         return [self._agent(name, f"{prefix}{name}", part, block, robot, robot_part)
                 for name, _ in self._instances(part)]
 
     def _agent(self, name: str, path: str, part: Element, block: Element, robot: str,
-               robot_part: Element | None) -> _AgentInstance:
+               robot_part: Element | None) -> AgentInstance:
         self._templates[path] = (self.raw.name(part), name)
         subsystem_parts = []
         group_parts: list[tuple[Element, Element, list[GroupMember], list[Element]]] = []
@@ -226,14 +209,14 @@ class StructureLifter:
             kind = self.recogniser.abbreviation(concept) if self.recogniser.is_a(concept, "Subsystem") else ""
             if kind:
                 subsystem_parts.append((sub_part, sub_block, kind, route))
-        instances: list[_SubsystemInstance] = []
+        instances: list[SubsystemInstance] = []
         for sub_part, sub_block, kind, route in subsystem_parts:
             for sub_name, index in self._instances(sub_part):
                 instances.append(self._subsystem(sub_part, sub_block, kind, route, path, sub_name, index))
-        links = self._agent_links(block, path, instances)
+        links = self.links.agent_links(block, path, instances)
         groups = []
         for group_part, group_block, held, members in group_parts:
-            links.extend(self._agent_links(group_block, path, instances))
+            links.extend(self.links.agent_links(group_block, path, instances))
             member_paths = tuple(i.subsystem.path for i in instances if any(i.part is m for m in members))
             groups.append(Group(self.raw.name(group_part), f"{path}.{self.raw.name(group_part)}", GroupKind.SUBSYSTEMS,
                                 self.raw.name(group_block), path, member_paths, tuple(held),
@@ -243,7 +226,7 @@ class StructureLifter:
         agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
                       declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix",
                       tuple(groups))
-        return _AgentInstance(agent, part, robot_part, instances)
+        return AgentInstance(agent, part, robot_part, instances)
 
     def _subsystem_group(self, block: Element, path: str) -> tuple[list[GroupMember], list[tuple[Element, Element, str, str]]]:
         """The parts of a Subsystem Group's block, and those it contributes to its Agent: Virtual
@@ -259,7 +242,7 @@ class StructureLifter:
 
     # -- subsystems --------------------------------------------------------------------------
     def _subsystem(self, part: Element, block: Element, kind: str, route: str, agent_path: str,
-                   name: str, index: int) -> _SubsystemInstance:
+                   name: str, index: int) -> SubsystemInstance:
         raw = self.raw
         path = f"{agent_path}.{name}"
         inputs: list[Buffer] = []
@@ -325,133 +308,4 @@ class StructureLifter:
             buffer_groups(raw, self.recogniser, block, path), scope,
         )
         self._templates[path] = (raw.name(part), name)
-        return _SubsystemInstance(subsystem, part, ports)
-
-    # -- links -------------------------------------------------------------------------------
-    def _end_buffers(self, end: EndTarget, parts: dict[int, list[_SubsystemInstance]]) -> list[str] | None:
-        """Buffer paths one connector end stands for; None when it is not a subsystem buffer."""
-        role, part = end.role, end.part_with_port
-        if role is None or part is None:
-            return None
-        instances = parts.get(id(part))
-        if not instances:
-            return None
-        found: list[str] = []
-        for inst in instances:
-            buffers = inst.ports.get(id(role))
-            if buffers is None:
-                return None
-            found.extend(b.path for b in buffers)
-        return found
-
-    def _agent_links(self, block: Element, agent_path: str, instances: list[_SubsystemInstance]) -> list[Link]:
-        parts: dict[int, list[_SubsystemInstance]] = {}
-        for inst in instances:
-            parts.setdefault(id(inst.part), []).append(inst)
-        links = []
-        for connector in self.raw.in_connector_order(self.raw.children(block, "ownedConnector")):
-            ends = [self._end_buffers(resolve_end(self.raw, e), parts) for e in self.raw.children(connector, "end")]
-            links.extend(self._links(connector, ends, LinkScope.AGENT, agent_path))
-        return links
-
-    def _system_links(self, block: Element, system: str, agents: list[_AgentInstance],
-                      group_blocks: list[Element]) -> list[Link]:
-        """Links between agents: connectors of the system block, and of the Agent Groups' blocks."""
-        connectors = self.raw.children(block, "ownedConnector")
-        for group_block in group_blocks:
-            connectors = connectors + self.raw.children(group_block, "ownedConnector")
-        links = []
-        for connector in self.raw.in_connector_order(connectors):
-            ends = [self._nested_end_buffers(e, agents) for e in self.raw.children(connector, "end")]
-            links.extend(self._links(connector, ends, LinkScope.SYSTEM, system))
-        return links
-
-    def _nested_end_buffers(self, end: Element, agents: list[_AgentInstance]) -> list[str] | None:
-        """Resolve an end nested through a robot part and an agent part (SysML NestedConnectorEnd)."""
-        target = resolve_end(self.raw, end)
-        path_parts = list(target.path)
-        agent_parts = {id(a.part) for a in agents}
-        agent_part = next((p for p in reversed(path_parts) if id(p) in agent_parts), None)
-        if agent_part is None:
-            return None
-        outer = path_parts[: path_parts.index(agent_part)]
-        robot_part = outer[-1] if outer else None
-        found: list[str] = []
-        for agent in agents:
-            if agent.part is not agent_part or (robot_part is not None and agent.robot_part is not robot_part):
-                continue
-            parts: dict[int, list[_SubsystemInstance]] = {}
-            for inst in agent.subsystems:
-                parts.setdefault(id(inst.part), []).append(inst)
-            buffers = self._end_buffers(target, parts)
-            if buffers is None:
-                return None
-            found.extend(buffers)
-        return found or None
-
-    def _links(self, connector: Element, ends: list[list[str] | None], scope: LinkScope, owner: str) -> list[Link]:
-        raw = self.raw
-        name = raw.name(connector)
-        location = raw.location(connector)
-        first = ends[0] if len(ends) == 2 else None
-        second = ends[1] if len(ends) == 2 else None
-        if first is None or second is None:
-            if self._looks_like_link(connector):
-                self._note("C001", Severity.ERROR,
-                           f"connector '{name or raw.xmi_id(connector)}' does not connect two subsystem buffers",
-                           connector, f"{owner}.{name}" if name else owner)
-            return []
-        if len(first) == len(second):
-            pairs = list(zip(first, second))
-            replicated = len(first) > 1
-        elif len(first) == 1 or len(second) == 1:
-            pairs = [(a, b) for a in first for b in second]
-            replicated = len(pairs) > 1
-        else:
-            self._note("C001", Severity.ERROR,
-                       f"connector '{name}' joins {len(first)} and {len(second)} replicated buffers: cannot pair them",
-                       connector, f"{owner}.{name}")
-            return []
-        links = []
-        for k, (a, b) in enumerate(pairs, start=1):
-            a_out, b_out = self._is_output(a), self._is_output(b)
-            if a_out and not b_out:
-                source, target = a, b
-            elif b_out and not a_out:
-                source, target = b, a
-            else:
-                source, target = "", ""  # two outputs or two inputs: rule C001
-            instance = self._instance_link_name(name, (a, b), scope) if name and replicated else name
-            display = instance or f"{self._end_owner(source or a, scope)[1]},{self._end_owner(target or b, scope)[1]}"
-            links.append(Link(instance, f"{owner}.{display}" if scope == "agent" else display, (a, b),
-                              source, target, scope, owner, name, location))
-        return links
-
-    def _is_output(self, buffer_path: str) -> bool:
-        return buffer_path in self._outputs
-
-    def _end_owner(self, buffer_path: str, scope: str) -> tuple[str, str]:
-        """(template, instance name) of the subsystem (inside an agent) or agent (between agents)
-        a link end belongs to."""
-        agent, subsystem = self._owners.get(buffer_path, ("", ""))
-        owner = agent if scope == "system" else subsystem
-        return self._templates.get(owner, ("", "?"))
-
-    def _instance_link_name(self, template: str, ends: tuple[str, str], scope: str) -> str:
-        """``cs,motorControllerK/ve`` → ``cs,motorController3/ve``: each part naming a replicated
-        end's template becomes that instance's name."""
-        names: dict[str, str] = {}
-        for end in ends:
-            part_template, instance = self._end_owner(end, scope)
-            names.setdefault(part_template, instance)
-        return ",".join(names.get(part.strip(), part) for part in template.split(","))
-
-    def _looks_like_link(self, connector: Element) -> bool:
-        """A connector meant as an EARL link: stereotyped as one, or joining ports."""
-        if self.recogniser.recognise(connector).concept:
-            return True
-        for end in self.raw.children(connector, "end"):
-            role = self.raw.ref(end, "role")
-            if role is not None and not isinstance(role, ExternalRef) and self.raw.uml_type(role) == "Port":
-                return True
-        return False
+        return SubsystemInstance(subsystem, part, ports)
