@@ -3,6 +3,7 @@
     python bench/run.py                 # 1, 10 and 100 MB models, 5 runs each
     python bench/run.py --quick         # 1 and 10 MB only
     python bench/run.py --sizes 10,100 --runs 3
+    python bench/run.py --sizes 10,100 --versus ../other-checkout   # paired with another commit
 
 Every measurement is a whole process started fresh (``subprocess``): its wall time from
 start to exit, and its peak resident set size (``ru_maxrss`` of that child, from
@@ -15,7 +16,10 @@ start to exit, and its peak resident set size (``ru_maxrss`` of that child, from
 * the floor: ``bench/one_pass.py FILE``, the same parse and one pass from Python over every
   element (its id, type, name and line into an index), leaving without freeing the tree as
   earl-m2t does: the least a checker written in Python over lxml costs;
-* ``python -c pass``: the interpreter's own start-up, for context.
+* ``python -c pass``: the interpreter's own start-up, for context;
+* with ``--versus DIR``: ``DIR/.venv/bin/earl-m2t check FILE``, the check of another checkout
+  (another commit, set up with ``make setup`` there), interleaved with the others run by run,
+  so that both commits' ratios to the same parse come from one run.
 
 Before the models, the start-up row: ``earl-m2t --help`` against ``python -c pass``, run by
 run interleaved, with the target for ``--help``.
@@ -115,26 +119,32 @@ def ensure_model(size_mb: int) -> Path:
     return path
 
 
-def measure(size_mb: int, runs: int, check_cmd: list[str]) -> dict:
+def measure(size_mb: int, runs: int, check_cmd: list[str], versus_cmd: list[str] | None = None) -> dict:
     path = ensure_model(size_mb)
     rel = str(path.relative_to(ROOT))
     check_argv = [*check_cmd, "check", rel]
     parse_argv = [sys.executable, "-c", PARSE_SCRIPT, rel]
     floor_argv = [sys.executable, str(BENCH / "one_pass.py"), rel]
+    versus_argv = [*versus_cmd, "check", str(path)] if versus_cmd else None
     # One untimed round first: the file is then in the page cache for every timed run.
     warm = run_once(check_argv)
     run_once(parse_argv)
     run_once(floor_argv)
     clean = warm.exit_code == 0 and "0 error(s), 0 warning(s)" in warm.output
-    checks, parses, floors = [], [], []
+    if versus_argv:
+        clean = clean and run_once(versus_argv).exit_code == 0
+    checks, parses, floors, versus = [], [], [], []
     for _ in range(runs):  # interleaved, so that drift hits all alike
         checks.append(run_once(check_argv))
         parses.append(run_once(parse_argv))
         floors.append(run_once(floor_argv))
-    for sample in checks + parses + floors:
+        if versus_argv:
+            versus.append(run_once(versus_argv))
+    for sample in checks + parses + floors + versus:
         if sample.exit_code != 0:
             clean = False
     return {
+        "versus": summarise(versus) if versus else None,
         "size_mb": size_mb,
         "file": rel,
         "file_mb": path.stat().st_size / 1e6,
@@ -198,10 +208,19 @@ def report(results: list[dict], startup: Summary, runs: int, help_run: Summary |
               f"{floor.rss:14.1f}")
         print(f"   {'earl-m2t check':24s} {check.wall:9.3f} {check.wall_min:7.3f}-{check.wall_max:<7.3f} "
               f"{check.rss:14.1f}")
+        versus: Summary | None = res["versus"]
+        if versus is not None:
+            print(f"   {'check (--versus)':24s} {versus.wall:9.3f} {versus.wall_min:7.3f}-{versus.wall_max:<7.3f} "
+                  f"{versus.rss:14.1f}")
         res["time_ratio"] = check.wall / parse.wall
         res["memory_ratio"] = check.rss / parse.rss
         print(f"   ratio check/parse: time {fmt_ratio(res['time_ratio'], TARGET_TIME_RATIO if big else None)}")
         print(f"                      memory {fmt_ratio(res['memory_ratio'], TARGET_MEMORY_RATIO if big else None)}")
+        if versus is not None:
+            res["versus_time_ratio"] = versus.wall / parse.wall
+            print(f"   ratio check/parse of --versus: time {fmt_ratio(res['versus_time_ratio'], None)}, memory "
+                  f"{fmt_ratio(versus.rss / parse.rss, None)}; this checkout / --versus: time "
+                  f"{check.wall / versus.wall:.2f}×")
         res["floor_ratio"] = floor.wall / parse.wall
         left = TARGET_TIME_RATIO * parse.wall - floor.wall
         print(f"   ratio floor/parse: time {fmt_ratio(res['floor_ratio'], None)}; at {TARGET_TIME_RATIO:g}× the parse, "
@@ -227,6 +246,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="only the 1 and 10 MB models")
     parser.add_argument("--runs", type=int, default=5, help="timed runs per command and size (default 5)")
     parser.add_argument("--json", type=Path, metavar="FILE", help="also write the figures as JSON")
+    parser.add_argument("--versus", type=Path, metavar="DIR",
+                        help="another checkout (set up with make setup) whose check is measured in the same run")
     args = parser.parse_args(argv)
     sizes = [1, 10] if args.quick else [int(s) for s in args.sizes.split(",") if s.strip()]
     check_cmd = earl_m2t_command()
@@ -237,12 +258,14 @@ def main(argv: list[str] | None = None) -> int:
     results = []
     for size in sizes:
         print(f"measuring the {size} MB model ({args.runs} runs) ...", flush=True)
-        results.append(measure(size, args.runs, check_cmd))
+        versus_cmd = [str(args.versus.resolve() / ".venv" / "bin" / "earl-m2t")] if args.versus else None
+        results.append(measure(size, args.runs, check_cmd, versus_cmd))
     report(results, startup, args.runs, help_run)
     if args.json:
         payload = {"startup": asdict(startup), "help": asdict(help_run), "runs": args.runs,
                    "results": [{**r, "check": asdict(r["check"]), "parse": asdict(r["parse"]),
-                                "floor": asdict(r["floor"])} for r in results]}
+                                "floor": asdict(r["floor"]), "versus": asdict(r["versus"]) if r["versus"] else None}
+                               for r in results]}
         args.json.write_text(json.dumps(payload, indent=2), encoding="utf-8")
     return 0
 

@@ -113,7 +113,7 @@ class ConditionLifter:
         expr, problem = parse_condition(condition)
         if expr is None:
             assert problem is not None
-            return dataclasses.replace(condition, problems=(problem,))
+            return _with(condition, None, None, (problem,))
         key = (scope, condition.text)
         known = self._resolved.get(key)
         if known is None:
@@ -125,11 +125,19 @@ class ConditionLifter:
         problems = tuple(ConditionProblem(ProblemKind.REFERENCE, message,
                                           Location(loc.file, loc.line + max(line - 1, 0), column, loc.xmi_id))
                          for message, line, column in relative)
-        return dataclasses.replace(condition, expr=expr, expanded=expanded, problems=problems)
+        return _with(condition, expr, expanded, problems)
 
     def resolve_predicates(self, predicates: Iterable[PrimitivePredicate], scope: Scope) -> tuple[PrimitivePredicate, ...]:
-        return tuple(pp if pp.fun is None else dataclasses.replace(pp, fun=self.resolve(pp.fun, scope))
+        return tuple(pp if pp.fun is None else PrimitivePredicate(pp.name, pp.path, self.resolve(pp.fun, scope),
+                                                                  pp.language, pp.body, pp.location, pp.recognised_by)
                      for pp in predicates)
+
+
+def _with(condition: Condition, expr: Expr | None, expanded: Expr | None,
+          problems: tuple[ConditionProblem, ...]) -> Condition:
+    """``condition`` with what the lift made of it (built directly: models hold many conditions)."""
+    return Condition(condition.text, condition.language, condition.location, condition.owner, condition.role,
+                     expr, expanded, problems)
 
 
 def resolve_subsystem(subsystem: Subsystem, datatypes: Mapping[str, DataType]) -> Subsystem:
