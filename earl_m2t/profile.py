@@ -7,8 +7,8 @@ The profile file is the single definition of the EARL concepts. Every definition
   paper's abbreviation;
 - ``:>`` gives its supertypes, ``abstract`` marks concepts that are never instantiated;
 - ``@Stereotype { metaclass = "..."; }`` names the UML metaclass its stereotype extends;
-- its usages are its :class:`~earl_m2t.profile_types.Feature` s, with the multiplicities of the general model;
-  usages marked ``#Tag`` are stereotype attributes (tagged values);
+- its usages are its :class:`~earl_m2t.profile_types.Feature` s, with the multiplicities of
+  the general model; usages marked ``#Tag`` are stereotype attributes (tagged values);
 - its ``doc`` is its meaning.
 
 Enumerations (``enum def``) anywhere in package ``EARL`` are the value sets of tags.
