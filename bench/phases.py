@@ -54,7 +54,8 @@ def main(argv: list[str] | None = None) -> int:
     import earl_m2t.cli.app  # noqa: F401  (what the command line imports)
     from earl_m2t.api import Loaded, check_loaded
     from earl_m2t.check.engine import CheckOptions, builtin_invariants
-    from earl_m2t.check.registry import catalogue, python_rules
+    from earl_m2t.check.registry import catalogue
+    from earl_m2t.check.rules import python_rules
     from earl_m2t.lift import lift
     from earl_m2t.predicate import parse_predicate
     from earl_m2t.profile import load_profile

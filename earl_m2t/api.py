@@ -12,7 +12,6 @@ from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.lift import lift
 from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.read.xmi import load_raw_model
 from earl_m2t.shorten import shortened_words
 from earl_m2t.sysml2.files import is_sysml2
 
@@ -48,6 +47,8 @@ def load(path: Path | str, dialect: str | None = None, profiles: Sequence[Path |
 
         raw = read_sysml2(file)
     else:
+        from earl_m2t.read.loader import load_raw_model  # loaded only for XMI, with the reader of referenced files
+
         raw = load_raw_model(file, dialect)
     result = lift(raw, vocabulary=vocabulary)
     save_parsed_predicates()

@@ -1,5 +1,6 @@
-"""Reads the EARL profile (``profiles/earl.sysml``, SysML v2 text) into a :class:`~earl_m2t.profile.Profile`,
-checking it on the way. Only a cache miss of :func:`earl_m2t.profile.load_profile` runs it."""
+"""Reads the EARL profile (``profiles/earl.sysml``, SysML v2 text) into a
+:class:`~earl_m2t.profile_types.Profile`, checking it on the way. Only a cache miss of
+:func:`earl_m2t.profile.load_profile` runs it."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from earl_m2t.profile import (
+from earl_m2t.profile_types import (
     METACLASS_ATTRIBUTE,
     MODEL_PACKAGE,
     ROOT_PACKAGE,

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from earl_m2t.check.engine import builtin_invariants
-from earl_m2t.check.registry import catalogue, python_rules
+from earl_m2t.check.registry import catalogue
+from earl_m2t.check.rules import python_rules
 from earl_m2t.resources import metamodel_path
 
 

@@ -21,7 +21,8 @@ import pytest
 from earl_m2t.check.registry import catalogue
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.location import Location
-from earl_m2t.render.diagnostics import FORMATS, CheckReport
+from earl_m2t.render.check_report import CheckReport
+from earl_m2t.render.diagnostics import FORMATS
 from earl_m2t.render.github import escape_data, escape_property
 from earl_m2t.render.junit import render_junit
 from earl_m2t.render.sarif import sarif_document

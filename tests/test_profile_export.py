@@ -20,7 +20,8 @@ from earl_m2t.output import OutputError, write_files  # noqa: E402
 from earl_m2t.profile import load_profile  # noqa: E402
 from earl_m2t.profile_export import FORMATS, ProfileExportError, profile_spec  # noqa: E402
 from earl_m2t.profile_export.render import export_profile, load_targets  # noqa: E402
-from earl_m2t.read.xmi import dialect_table, load_raw_model  # noqa: E402
+from earl_m2t.read.loader import load_raw_model  # noqa: E402
+from earl_m2t.read.xmi import dialect_table  # noqa: E402
 from tests.support.papyrus_builder import EARL_EPACKAGE_ID, EARL_NS, EARL_PROFILE_ID  # noqa: E402
 
 SAMPLE_DIR = ROOT / "samples" / "pick_and_place"

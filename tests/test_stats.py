@@ -14,7 +14,7 @@ from lxml import etree
 
 from earl_m2t.api import load
 from earl_m2t.diagnostics import ModelReadError
-from earl_m2t.read.xmi import load_raw_model
+from earl_m2t.read.loader import load_raw_model
 from earl_m2t.resources import metamodel_path
 from earl_m2t.stats import COUNTS, Stats, model_stats, parse_definitions, stats_definitions
 

@@ -8,7 +8,8 @@ from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
 from earl_m2t.cache import cached
-from earl_m2t.check.registry import Finding, RuleInfo, catalogue, python_rules
+from earl_m2t.check.registry import RuleInfo, catalogue
+from earl_m2t.check.rule import Finding, RuleFunction
 from earl_m2t.check.tables import LinkTable, using_permitted_links
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
@@ -52,10 +53,16 @@ def load_rule_code(worth_it: Callable[[], bool]) -> None:
     networkx stays imported on first use, after the model is built: imported before, it raised
     the peak memory of checking the 10 MB bench model by about 10 MB (8 %), as the memory that
     reading and lifting free is then not reused for it."""
-    for load in (python_rules, _load_solver):
+    for load in (_python_rules, _load_solver):
         if not worth_it():
             return
         load()
+
+
+def _python_rules() -> dict[str, RuleFunction]:
+    from earl_m2t.check.rules import python_rules  # the rule modules on first use (see load_rule_code)
+
+    return python_rules()
 
 
 def _load_solver() -> None:
@@ -118,7 +125,7 @@ def check_model(model: EarlModel, options: CheckOptions | None = None) -> list[D
     """Every finding of the enabled rules, deduplicated and sorted by location."""
     options = options or CheckOptions()
     rules = catalogue()
-    implementations = python_rules()
+    implementations = _python_rules()
     found: list[Diagnostic] = []
     if not model.systems:
         if options.enabled("R003"):

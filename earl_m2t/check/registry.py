@@ -1,7 +1,7 @@
-"""The rule registry: one catalogue row per code, joined with its implementation and its doc.
+"""The rule catalogue: one row per code, with its severity, summary and doc.
 
 Rows come from ``metamodel/rules/catalogue.toml``; OCL rules are the invariants of
-``metamodel/rules/invariants.ocl``; Python rules register themselves with :func:`rule`.
+``metamodel/rules/invariants.ocl``; Python rules are implemented in :mod:`earl_m2t.check.rules`.
 """
 
 from __future__ import annotations
@@ -9,11 +9,9 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass
 from functools import cache
-from typing import Callable, Iterable, Iterator
+from typing import Iterable, Iterator
 
 from earl_m2t.diagnostics import Severity
-from earl_m2t.model.elements import EarlModel
-from earl_m2t.model.location import Location
 from earl_m2t.resources import metamodel_path
 
 
@@ -44,38 +42,6 @@ class RuleInfo:
         if path.is_file():
             return path.read_text(encoding="utf-8")
         return f"# {self.code} {self.name} ({self.severity.value})\n\n{self.summary}\n"
-
-
-@dataclass(frozen=True, slots=True)
-class Finding:
-    """What a rule implementation reports; the engine adds code and severity."""
-
-    message: str
-    location: Location
-    element: str = ""
-
-
-RuleFunction = Callable[[EarlModel], Iterable[Finding]]
-_PYTHON_RULES: dict[str, RuleFunction] = {}
-
-
-def rule(code: str) -> Callable[[RuleFunction], RuleFunction]:
-    """Register the Python implementation of a catalogue rule."""
-
-    def register(function: RuleFunction) -> RuleFunction:
-        if code in _PYTHON_RULES:
-            raise ValueError(f"rule {code} is implemented twice")
-        _PYTHON_RULES[code] = function
-        return function
-
-    return register
-
-
-def python_rules() -> dict[str, RuleFunction]:
-    # importing the rule modules registers their functions
-    from earl_m2t.check.rules import activation, behaviour, connection, datatype, groups, transition  # noqa: F401
-
-    return dict(_PYTHON_RULES)
 
 
 @cache

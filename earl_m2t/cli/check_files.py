@@ -17,7 +17,8 @@ from earl_m2t.config import ConfigError
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity, SourceTextError
 from earl_m2t.read.bounded import ReadPolicy, reading_with
 from earl_m2t.read.early import still_parsing
-from earl_m2t.render.diagnostics import FORMATS, CheckReport
+from earl_m2t.render.check_report import CheckReport
+from earl_m2t.render.diagnostics import FORMATS
 
 
 @dataclass(frozen=True)

@@ -35,9 +35,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.output import OutputError, write_files
-    from earl_m2t.profile import ProfileError
     from earl_m2t.profile_export.render import export_profile
     from earl_m2t.profile_export.spec import ProfileExportError
+    from earl_m2t.profile_types import ProfileError
 
     try:
         files = export_profile(args.format)

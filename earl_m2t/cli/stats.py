@@ -44,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
 
     from earl_m2t.diagnostics import ModelReadError
     from earl_m2t.lift import lift
-    from earl_m2t.read.xmi import load_raw_model
+    from earl_m2t.read.loader import load_raw_model
     from earl_m2t.stats import model_stats
     from earl_m2t.sysml2.files import is_sysml2
 

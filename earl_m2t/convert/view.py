@@ -28,7 +28,8 @@ from earl_m2t.model.elements import (
     Subsystem,
     System,
 )
-from earl_m2t.profile import Profile, load_profile
+from earl_m2t.profile import load_profile
+from earl_m2t.profile_types import Profile
 
 PRIMITIVE_TYPES = {"boolean": "Boolean", "integer": "Integer", "real": "Real", "string": "String"}
 DIRECTIONS = {"read": "in", "write": "out", "readwrite": "inout"}

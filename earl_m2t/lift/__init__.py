@@ -11,7 +11,8 @@ from earl_m2t.lift.directives import read_properties, read_suppressions
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.lift.structure import StructureLifter
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.profile import Profile, load_profile
+from earl_m2t.profile import load_profile
+from earl_m2t.profile_types import Profile
 from earl_m2t.read.xmi import RawModel
 from earl_m2t.stereotypes import Vocabulary
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from earl_m2t.profile import Profile
+from earl_m2t.profile_types import Profile
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 from earl_m2t.stereotypes import Vocabulary
 

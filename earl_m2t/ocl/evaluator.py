@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
-from earl_m2t.ocl import ast
+import earl_m2t.ocl.ast as ast
 from earl_m2t.ocl.errors import OclEvaluationError
 
 Env = dict[str, Any]

@@ -14,7 +14,7 @@ from textx import metamodel_from_file
 from textx.exceptions import TextXError, TextXSyntaxError
 from textx.metamodel import TextXMetaModel
 
-from earl_m2t.ocl import ast
+import earl_m2t.ocl.ast as ast
 from earl_m2t.ocl.errors import OclSyntaxError
 from earl_m2t.ocl.evaluator import CompiledExpression, compile_expression
 from earl_m2t.ocl.invariant import Invariant

@@ -31,7 +31,8 @@ from earl_m2t.predicate.ast import (
     Replicated,
 )
 from earl_m2t.predicate.errors import PredicateSyntaxError, where
-from earl_m2t.predicate.transform import is_indexed, join, replication_template
+from earl_m2t.predicate.printer import format_node
+from earl_m2t.predicate.transform import OperandsDiffer, is_indexed, join, replication_template
 from earl_m2t.predicate.walk import references
 from earl_m2t.resources import metamodel_path
 
@@ -140,7 +141,10 @@ class _Builder:
                         item.column,
                     )
                 first = out.pop()
-                template = replication_template(first, after, line=item.line, column=item.column)
+                try:
+                    template = replication_template(first, after, line=item.line, column=item.column)
+                except OperandsDiffer as differ:
+                    raise _operands_differ(differ) from None
                 out.append(Replicated(op, template, "K", **self.at(items[i - 1][0])))
                 may_open = False
                 i += 2
@@ -219,6 +223,14 @@ def _kind(obj: Any) -> str:
 
 def _head(name: Any) -> str:
     return name.base if name.suffix is None else f"{name.base}/{name.suffix}"
+
+
+def _operands_differ(differ: OperandsDiffer) -> PredicateSyntaxError:
+    """The error of a replication whose operands differ in more than the index, with both texts."""
+    before, after = differ.before, differ.after
+    message = (f"'{format_node(after)}' after '…' does not repeat '{format_node(before)}' before it "
+               f"(only the index may change, from 1 to {differ.last_index})")
+    return PredicateSyntaxError(f"{message} at {where(after.line, after.column)}", after.line, after.column)
 
 
 # -- readable syntax errors -------------------------------------------------------------

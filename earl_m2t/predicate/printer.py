@@ -24,6 +24,8 @@ from earl_m2t.predicate.ast import (
     Replicated,
 )
 from earl_m2t.predicate.errors import PredicateSyntaxError
+from earl_m2t.predicate.transform import OperandsDiffer, replication_template, substitute_index
+from earl_m2t.predicate.walk import walk
 
 Style = Literal["unicode", "ascii"]
 
@@ -150,16 +152,13 @@ class _Printer:
 
 
 def _ellipsis_operands(rep: Replicated) -> tuple[Node, Node] | None:
-    from earl_m2t.predicate.transform import replication_template, substitute_index
-    from earl_m2t.predicate.walk import walk
-
     if rep.var != "K" or any(isinstance(n, Replicated) for n in walk(rep.template)):
         return None
     first = substitute_index(rep.template, rep.var, 1)
     last = substitute_index(rep.template, rep.var, "N")
     try:
         template = replication_template(first, last, var=rep.var)
-    except PredicateSyntaxError:
+    except (PredicateSyntaxError, OperandsDiffer):
         return None
     return (first, last) if template == rep.template else None
 

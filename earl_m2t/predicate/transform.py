@@ -132,6 +132,22 @@ def expand_replicated(expr: Expr, count_for: Callable[[Replicated], int | None])
     return visit(expr)  # type: ignore[return-value]
 
 
+class OperandsDiffer(Exception):
+    """The operands of a replication ``first ∨ … ∨ last`` differ in more than their index,
+    first at ``before`` (in ``first``) and ``after`` (in ``last``).
+
+    The parser turns it into a :class:`PredicateSyntaxError` that shows both as text. The text
+    is not made here: the printer makes it, and the printer itself asks
+    :func:`replication_template` whether a replication can be written in the paper's form.
+    """
+
+    def __init__(self, before: Node, after: Node, last_index: str) -> None:
+        super().__init__(before, after, last_index)
+        self.before = before
+        self.after = after
+        self.last_index = last_index
+
+
 def replication_template(first: Expr, last: Expr, *, var: str = "K", last_index: str = "N",
                          line: int = 1, column: int = 1) -> Expr:
     """The template of the replication form ``first ∨ … ∨ last``.
@@ -139,7 +155,8 @@ def replication_template(first: Expr, last: Expr, *, var: str = "K", last_index:
     ``first`` must name the replicated instances with index 1 and ``last`` with index
     ``last_index`` (N), and be otherwise identical; the template carries ``var`` in their
     place. ``line`` and ``column`` locate the ellipsis, for the error when no name is
-    indexed. Raises :class:`PredicateSyntaxError` at the first difference.
+    indexed. At the first difference, raises :class:`PredicateSyntaxError` when it is in an
+    index, else :class:`OperandsDiffer`.
     """
     unifier = _Unifier(var, last_index)
     template = unifier.unify(first, last)
@@ -209,14 +226,8 @@ class _Unifier:
                                 f"found '{last}'")
         raise self._mismatch(a, b)
 
-    def _mismatch(self, a: Node, b: Node) -> PredicateSyntaxError:
-        from earl_m2t.predicate.printer import format_node
-
-        return _error(
-            b,
-            f"'{format_node(b)}' after '…' does not repeat '{format_node(a)}' before it "
-            f"(only the index may change, from 1 to {self.last_index})",
-        )
+    def _mismatch(self, a: Node, b: Node) -> OperandsDiffer:
+        return OperandsDiffer(a, b, self.last_index)
 
 
 def _error(node: Node, message: str) -> PredicateSyntaxError:

@@ -9,9 +9,10 @@ from pathlib import Path
 import jinja2
 
 from earl_m2t import resources
-from earl_m2t.profile import Profile, load_profile
+from earl_m2t.profile import load_profile
 from earl_m2t.profile_export.formats import CONTEXTS, FORMATS, Target
 from earl_m2t.profile_export.spec import ProfileExportError, profile_spec
+from earl_m2t.profile_types import Profile
 
 __all__ = ["FORMATS", "export_profile", "load_targets", "transforms_dir"]
 

@@ -2,7 +2,7 @@
 
 This is the format-neutral half of ``earl-m2t profile``; the tool formats (Papyrus, Cameo,
 Enterprise Architect) only decide how it is written. Everything comes from
-:class:`earl_m2t.profile.Profile` (``profiles/earl.sysml``):
+:class:`earl_m2t.profile_types.Profile` (``profiles/earl.sysml``):
 
 - every concept with a metaclass (``@Stereotype``) is one stereotype; ``abstract``
   concepts are abstract stereotypes; ``:>`` specialisations are generalisations between
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from earl_m2t.profile import ROOT_PACKAGE, Concept, Feature, Profile
+from earl_m2t.profile_types import ROOT_PACKAGE, Concept, Feature, Profile
 
 __all__ = [
     "DefaultValue",

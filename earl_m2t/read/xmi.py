@@ -46,7 +46,6 @@ __all__ = [
     "dialect_table",
     "index_documents",
     "index_tree",
-    "load_raw_model",
     "normalise_uri",
     "read_raw_model",
     "stereotype_key",
@@ -381,20 +380,6 @@ class RawModel:
 
 
 # -- loading -------------------------------------------------------------------------------------
-
-
-def load_raw_model(path: Path, dialect: str | None = None) -> RawModel:
-    """Read an XMI file or a ``.mdzip`` project into a :class:`RawModel`, with the model files it
-    references (see :mod:`earl_m2t.read.resources`; what cannot be resolved is an R004 finding).
-
-    ``dialect`` (a name of ``[dialects]`` in dialects.toml) overrides detection. Unreadable
-    input raises :class:`ModelReadError`.
-    """
-    from earl_m2t.read.resources import follow_references  # it builds on this module
-
-    raw = read_raw_model(path, dialect)
-    follow_references(raw, path, dialect)
-    return raw
 
 
 def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:

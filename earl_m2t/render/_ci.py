@@ -4,13 +4,10 @@ from __future__ import annotations
 
 import os
 from pathlib import Path, PurePosixPath
-from typing import TYPE_CHECKING
 
 from earl_m2t.check.registry import RuleInfo, catalogue
 from earl_m2t.diagnostics import Diagnostic, Severity
-
-if TYPE_CHECKING:
-    from earl_m2t.render.diagnostics import CheckReport
+from earl_m2t.render.check_report import CheckReport
 
 
 def repo_path(file: str, base: Path | None = None) -> tuple[str, bool]:

@@ -5,23 +5,13 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from dataclasses import dataclass, field
-from typing import Callable, Iterable, Sequence
+from typing import Callable, Iterable
 
 from earl_m2t.diagnostics import Diagnostic, Severity
+from earl_m2t.render.check_report import CheckReport
 from earl_m2t.render.github import render_github
 from earl_m2t.render.junit import render_junit
 from earl_m2t.render.sarif import render_sarif
-
-
-@dataclass(frozen=True)
-class CheckReport:
-    """Everything one ``check`` run found, as every output format needs it."""
-
-    diagnostics: list[Diagnostic]
-    checked: list[str]  # files read and checked
-    unreadable: list[dict[str, object]] = field(default_factory=list)  # file, line, message
-    rules: Sequence[str] | None = None  # codes of the rules that ran (None: the whole catalogue)
 
 
 def summary_counts(diagnostics: Iterable[Diagnostic]) -> dict[str, int]:

@@ -8,13 +8,10 @@ column of a finding is the column in a condition's text, not in the file.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from earl_m2t.diagnostics import Severity
 from earl_m2t.render._ci import ordered, repo_path, rule_title
-
-if TYPE_CHECKING:
-    from earl_m2t.render.diagnostics import CheckReport
+from earl_m2t.render.check_report import CheckReport
 
 COMMANDS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 

@@ -10,13 +10,10 @@ from __future__ import annotations
 import re
 import xml.etree.ElementTree as ET
 from collections import defaultdict
-from typing import TYPE_CHECKING
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.render._ci import files_of, ordered, rule_codes, rule_title
-
-if TYPE_CHECKING:
-    from earl_m2t.render.diagnostics import CheckReport
+from earl_m2t.render.check_report import CheckReport
 
 UNREADABLE_CASE = "model-unreadable"
 

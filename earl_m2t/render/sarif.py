@@ -13,14 +13,12 @@ import hashlib
 import json
 from collections import Counter
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 from urllib.parse import quote
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.render._ci import exit_code, ordered, repo_path, rule_codes, rule_info
-
-if TYPE_CHECKING:
-    from earl_m2t.render.diagnostics import CheckReport
+from earl_m2t.render.check_report import CheckReport
 
 SARIF_VERSION = "2.1.0"
 SARIF_SCHEMA = "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"

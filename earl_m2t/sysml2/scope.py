@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
-from earl_m2t.profile import Profile
+from earl_m2t.profile_types import Profile
 from earl_m2t.resources import metamodel_path
 from earl_m2t.sysml2.parser import identification, members, name_segments, rule
 from earl_m2t.sysml2.subset import SUBSET_TABLE

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from earl_m2t.profile import Profile
+from earl_m2t.profile_types import Profile
 from earl_m2t.read.xmi import Element, StereotypeApplication
 from earl_m2t.sysml2.behaviours import BehaviourWriter
 from earl_m2t.sysml2.fsm import FsmWriter, Later

@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 from earl_m2t import resources
-from earl_m2t.profile import Concept, Feature, Profile, ProfileError, load_profile
+from earl_m2t.profile import load_profile
+from earl_m2t.profile_types import Concept, Feature, Profile, ProfileError
 from earl_m2t.sysml2 import Sysml2SyntaxError, parse_text
 
 # Concept, abbreviation, UML metaclass: earl-metamodel.md §1 and the stereotype mapping.

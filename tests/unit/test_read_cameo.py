@@ -15,7 +15,8 @@ from earl_m2t.lift import lift
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.profile import load_profile
 from earl_m2t.read import mdzip
-from earl_m2t.read.xmi import ExternalRef, RawModel, load_raw_model
+from earl_m2t.read.loader import load_raw_model
+from earl_m2t.read.xmi import ExternalRef, RawModel
 
 ROOT = Path(__file__).resolve().parents[2]
 MODEL_MEMBER = "com.nomagic.magicdraw.uml_model.model"

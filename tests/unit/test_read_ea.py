@@ -12,7 +12,8 @@ from earl_m2t.api import load
 from earl_m2t.lift import lift
 from earl_m2t.lift.replication import multiplicity
 from earl_m2t.read.connector_ends import resolve_end
-from earl_m2t.read.xmi import ExternalRef, RawModel, load_raw_model
+from earl_m2t.read.loader import load_raw_model
+from earl_m2t.read.xmi import ExternalRef, RawModel
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -11,7 +11,8 @@ import pytest
 import earl_m2t.read.resources as resources
 from earl_m2t import Diagnostic, check, load
 from earl_m2t.lift.datatypes import DataTypeLifter
-from earl_m2t.read.xmi import ExternalRef, RawModel, load_raw_model
+from earl_m2t.read.loader import load_raw_model
+from earl_m2t.read.xmi import ExternalRef, RawModel
 
 ROOT = Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"

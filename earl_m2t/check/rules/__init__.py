@@ -1,0 +1,12 @@
+"""The Python rule implementations, one module per rule family; importing this package
+registers every one of them (:func:`earl_m2t.check.rule.rule`)."""
+
+from __future__ import annotations
+
+from earl_m2t.check.rule import RuleFunction, registered_rules
+from earl_m2t.check.rules import activation, behaviour, connection, datatype, groups, transition  # noqa: F401
+
+
+def python_rules() -> dict[str, RuleFunction]:
+    """Every Python rule implementation, by catalogue code."""
+    return registered_rules()

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from typing import Iterator
 
-from earl_m2t.check.registry import Finding, rule
+from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
 from earl_m2t.model.kinds import RECEIVE_MODES
 from earl_m2t.predicate import FieldRef, NewData

@@ -6,7 +6,7 @@ from typing import Iterator
 
 from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE
 from earl_m2t.analysis.shared_guards import SharedGuards, shared_guards
-from earl_m2t.check.registry import Finding, rule
+from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.conditions import ProblemKind
 from earl_m2t.model.elements import EarlModel, State
 from earl_m2t.model.graph import unreachable_states

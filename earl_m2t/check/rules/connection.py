@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Iterator
 
-from earl_m2t.check.registry import Finding, rule
+from earl_m2t.check.rule import Finding, rule
 from earl_m2t.check.tables import permitted_links
 from earl_m2t.model.elements import EarlModel, Link
 from earl_m2t.model.graph import subsystem_graph

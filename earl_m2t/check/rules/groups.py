@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Iterator
 
-from earl_m2t.check.registry import Finding, rule
+from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import EarlModel, Group
 
 # Concepts a group of each kind may hold.

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Iterator
 
-from earl_m2t.check.registry import Finding, rule
+from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import BasicBehaviour, EarlModel, Subsystem
 
 
