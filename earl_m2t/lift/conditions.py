@@ -15,7 +15,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from functools import lru_cache
 from types import MappingProxyType
 
-from earl_m2t.model.conditions import Condition, ConditionProblem, ProblemKind
+from earl_m2t.model.conditions import Condition, ConditionProblem, ConditionRole, ProblemKind
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import Buffer, Memory, PrimitivePredicate, Subsystem
 from earl_m2t.model.location import Location
@@ -46,8 +46,9 @@ from earl_m2t.predicate import (
 from earl_m2t.predicate.known import parsed
 from earl_m2t.predicate.unsayable import unsayable_reason
 
-# (message, line, column within the text) of each reference problem
-RelativeProblems = tuple[tuple[str, int, int], ...]
+# (kind, message, line and column within the text) of a problem; line None: at the condition itself
+RelativeProblem = tuple[ProblemKind, str, int | None, int]
+RelativeProblems = tuple[RelativeProblem, ...]
 
 
 @lru_cache(maxsize=65536)
@@ -57,19 +58,29 @@ def _parse(text: str) -> Expr | PredicateSyntaxError:
 
 def parse_condition(condition: Condition) -> tuple[Expr | None, ConditionProblem | None]:
     """The parsed expression of a condition, or the syntax problem that stops it."""
-    role = condition.role.description
-    if not condition.text.strip():
-        return None, ConditionProblem(ProblemKind.SYNTAX, f"empty {role}", condition.location)
-    reason = unsayable_reason(condition.text)
+    expr, problem = _parse_text(condition.text, condition.role)
+    return expr, _placed(problem, condition.location) if problem is not None else None
+
+
+def _parse_text(text: str, role: ConditionRole) -> tuple[Expr | None, RelativeProblem | None]:
+    what = role.description
+    if not text.strip():
+        return None, (ProblemKind.SYNTAX, f"empty {what}", None, 0)
+    reason = unsayable_reason(text)
     if reason is not None:
-        return None, ConditionProblem(ProblemKind.SYNTAX, f"{role} is not in the predicate language ({reason})",
-                                      condition.location)
-    result = _parse(condition.text)
+        return None, (ProblemKind.SYNTAX, f"{what} is not in the predicate language ({reason})", None, 0)
+    result = _parse(text)
     if isinstance(result, PredicateSyntaxError):
-        loc = condition.location
-        position = Location(loc.file, loc.line + max(result.line - 1, 0), result.column, loc.xmi_id)
-        return None, ConditionProblem(ProblemKind.SYNTAX, f"{role} does not parse: {result.message}", position)
+        return None, (ProblemKind.SYNTAX, f"{what} does not parse: {result.message}", result.line, result.column)
     return result, None
+
+
+def _placed(problem: RelativeProblem, where: Location) -> ConditionProblem:
+    """A problem found at a line and column of a condition's text, at its place in the model file."""
+    kind, message, line, column = problem
+    if line is None:
+        return ConditionProblem(kind, message, where)
+    return ConditionProblem(kind, message, Location(where.file, where.line + max(line - 1, 0), column, where.xmi_id))
 
 
 class ConditionLifter:
@@ -78,7 +89,8 @@ class ConditionLifter:
     def __init__(self, datatypes: Mapping[str, DataType]) -> None:
         self.datatypes = datatypes  # the model's, complete for every type a buffer or memory names
         self._scopes: dict[tuple[object, ...], Scope] = {}
-        self._resolved: dict[tuple[Scope, str], tuple[Expr, RelativeProblems]] = {}
+        # what a text means in a scope, for the subsystems alike: (expr, expanded, problems)
+        self._resolved: dict[tuple[Scope, str, ConditionRole], tuple[Expr | None, Expr | None, RelativeProblems]] = {}
 
     def scope(self, buffers: Iterable[Buffer], memory: Iterable[Memory],
               predicates: Iterable[PrimitivePredicate]) -> Scope:
@@ -110,34 +122,29 @@ class ConditionLifter:
         """``condition`` with its expression, expansion and problems in ``scope``."""
         if condition is None:
             return None
-        expr, problem = parse_condition(condition)
-        if expr is None:
-            assert problem is not None
-            return _with(condition, None, None, (problem,))
-        key = (scope, condition.text)
+        key = (scope, condition.text, condition.role)
         known = self._resolved.get(key)
         if known is None:
-            expanded = expand_replicated(expr, lambda node: scope.replication_count(node) or None)
-            known = (expanded, tuple(ReferenceChecker(scope, self.datatypes).problems(expr)))
-            self._resolved[key] = known
-        expanded, relative = known
-        loc = condition.location
-        problems = tuple(ConditionProblem(ProblemKind.REFERENCE, message,
-                                          Location(loc.file, loc.line + max(line - 1, 0), column, loc.xmi_id))
-                         for message, line, column in relative)
-        return _with(condition, expr, expanded, problems)
+            known = self._resolved[key] = self._resolve_text(condition.text, condition.role, scope)
+        expr, expanded, relative = known
+        where = condition.location
+        return Condition(condition.text, condition.language, where, condition.owner, condition.role, expr, expanded,
+                         tuple(_placed(problem, where) for problem in relative))
+
+    def _resolve_text(self, text: str, role: ConditionRole,
+                      scope: Scope) -> tuple[Expr | None, Expr | None, RelativeProblems]:
+        expr, problem = _parse_text(text, role)
+        if expr is None:
+            assert problem is not None
+            return None, None, (problem,)
+        expanded = expand_replicated(expr, lambda node: scope.replication_count(node) or None)
+        found = ReferenceChecker(scope, self.datatypes).problems(expr)
+        return expr, expanded, tuple((ProblemKind.REFERENCE, message, line, column) for message, line, column in found)
 
     def resolve_predicates(self, predicates: Iterable[PrimitivePredicate], scope: Scope) -> tuple[PrimitivePredicate, ...]:
         return tuple(pp if pp.fun is None else PrimitivePredicate(pp.name, pp.path, self.resolve(pp.fun, scope),
                                                                   pp.language, pp.body, pp.location, pp.recognised_by)
                      for pp in predicates)
-
-
-def _with(condition: Condition, expr: Expr | None, expanded: Expr | None,
-          problems: tuple[ConditionProblem, ...]) -> Condition:
-    """``condition`` with what the lift made of it (built directly: models hold many conditions)."""
-    return Condition(condition.text, condition.language, condition.location, condition.owner, condition.role,
-                     expr, expanded, problems)
 
 
 def resolve_subsystem(subsystem: Subsystem, datatypes: Mapping[str, DataType]) -> Subsystem:
