@@ -1,7 +1,7 @@
 """``earl-m2t diff``: what changed between two models, in EARL terms, read from the lifted models."""
 
 from earl_m2t.diff.compare import Change, FieldChange, compare
-from earl_m2t.diff.tree import model_tree
+from earl_m2t.element_tree.nodes import model_tree
 from earl_m2t.model.elements import EarlModel
 
 __all__ = ["Change", "FieldChange", "compare", "diff_models"]
