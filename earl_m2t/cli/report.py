@@ -44,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.cli.checked_model import read_and_check
     from earl_m2t.gen.diagrams import find_stale_diagrams
     from earl_m2t.gen.errors import GenError
-    from earl_m2t.gen.report import diagram_folder, render_report
+    from earl_m2t.report.page import diagram_folder, render_report
     from earl_m2t.output import OutputError, write_files
     from earl_m2t.shorten import shortened_words
 
