@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from earl_m2t.cli.dialect_option import add_dialect_option
-from earl_m2t.cli.gen_targets import gen_targets
+from earl_m2t.gen_targets import gen_targets
 
 if TYPE_CHECKING:
     from earl_m2t.diff import Change
