@@ -7,12 +7,11 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
+from earl_m2t.gen import targets as renderer_modules
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.orphans import OrphanFinder, orphan_finder
 from earl_m2t.gen.target import Renderer
 from earl_m2t.gen_targets import gen_targets
-
-RENDERERS = "earl_m2t.gen.targets"
 
 
 @dataclass(frozen=True)
@@ -28,7 +27,7 @@ def declared_target(name: str) -> GenTarget:
     entry = entries.get(name)
     if entry is None:
         raise GenError(f"unknown target {name!r} (one of {', '.join(entries)})")
-    module = importlib.import_module(f"{RENDERERS}.{entry.renderer}")
+    module = importlib.import_module(f"{renderer_modules.__name__}.{entry.renderer}")
     renderer = getattr(module, "RENDERER", None)
     if not isinstance(renderer, Renderer):
         raise GenError(f"transforms/targets.toml: {module.__name__} declares no RENDERER for the target {name!r}")
