@@ -140,7 +140,7 @@ def _gen(loaded: Loaded, target: str, folder: Path) -> Outputs:
 
 
 def _report(loaded: Loaded, findings: list) -> Outputs:
-    from earl_m2t.gen.report import render_report
+    from earl_m2t.report.page import render_report
 
     return dict(render_report(loaded.model, findings))
 

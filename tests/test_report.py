@@ -12,7 +12,7 @@ import pytest
 from lxml import html
 
 from earl_m2t.cli.app import main
-from earl_m2t.gen.markdown import code_span, escape_markdown
+from earl_m2t.gen.targets.markdown import code_span, escape_markdown
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"

@@ -15,7 +15,7 @@ from lxml import html
 
 from earl_m2t.api import load
 from earl_m2t.gen import render
-from earl_m2t.gen.report import render_report
+from earl_m2t.report.page import render_report
 from earl_m2t.model.elements import EarlModel
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from earl_m2t.cli.dialect_option import add_dialect_option
-from earl_m2t.cli.gen_targets import gen_targets
+from earl_m2t.gen_targets import gen_targets
 
 if TYPE_CHECKING:
     from earl_m2t.diff import Change
@@ -94,14 +94,15 @@ def _report(old: Side, new: Side, args: argparse.Namespace) -> int:
 def _changes(old: Side, new: Side) -> list[Change]:
     from dataclasses import replace
 
-    from earl_m2t.diff import compare, model_tree
-    from earl_m2t.diff.tree import Node
+    from earl_m2t.diff import compare
+    from earl_m2t.diff.tree import diff_tree
+    from earl_m2t.element_tree.nodes import Node
     from earl_m2t.model.location import Location
 
     empty = Node("EarlModel", "model", "", "", "", Location(""), (), ())
 
     def tree(side: Side) -> Node:
-        return model_tree(side.model) if side.model is not None else empty
+        return diff_tree(side.model) if side.model is not None else empty
 
     changes = compare(tree(old), tree(new))
     if old.model is None or new.model is None:  # a whole model added or removed: its name is no change

@@ -16,9 +16,9 @@ from pathlib import Path
 from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.early_parse import parses_model_early
-from earl_m2t.cli.gen_targets import gen_targets
 from earl_m2t.cli.profile_files_option import add_profile_files_option
 from earl_m2t.cli.read_options import add_read_options
+from earl_m2t.gen_targets import gen_targets
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

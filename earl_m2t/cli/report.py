@@ -42,10 +42,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 @parses_model_early
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.cli.checked_model import read_and_check
-    from earl_m2t.gen.diagrams import find_stale_diagrams
     from earl_m2t.gen.errors import GenError
-    from earl_m2t.gen.report import diagram_folder, render_report
+    from earl_m2t.gen.orphans import find_stale_diagrams
     from earl_m2t.output import OutputError, write_files
+    from earl_m2t.report.page import diagram_folder, render_report
     from earl_m2t.shorten import shortened_words
 
     checked = read_and_check(args, "report")

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from earl_m2t.gen import render
-from earl_m2t.gen.generate import USER_FILE_MARKER, Rendered
+from earl_m2t.gen.rendered import USER_FILE_MARKER, Rendered
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.output import written_by_earl_m2t
 

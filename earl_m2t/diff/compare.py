@@ -11,7 +11,8 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass, replace
 
-from earl_m2t.diff.tree import Node, presentation
+from earl_m2t.element_tree.nodes import Node
+from earl_m2t.element_tree.presentation import presentation
 
 
 @dataclass(frozen=True)

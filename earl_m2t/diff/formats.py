@@ -11,7 +11,7 @@ from pathlib import PurePosixPath
 from typing import TYPE_CHECKING, Any
 
 from earl_m2t.diff.compare import Change, FieldChange
-from earl_m2t.diff.tree import presentation
+from earl_m2t.element_tree.presentation import presentation
 
 if TYPE_CHECKING:  # the generator is imported only when --affected asks for it
     from earl_m2t.diff.affected import AffectedFile

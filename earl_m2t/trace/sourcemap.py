@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from earl_m2t.diff.tree import Node, model_tree
+from earl_m2t.element_tree.nodes import Node, model_tree
 from earl_m2t.model.elements import EarlModel
 
 TRACE_FILE = ".earl-trace.json"

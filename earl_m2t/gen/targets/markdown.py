@@ -1,20 +1,15 @@
-"""``earl-m2t gen --target markdown``: the paper-style tables of
-:mod:`earl_m2t.gen.views.tables` as one Markdown file (``transforms/markdown/``)."""
+"""The ``markdown`` target (``transforms/markdown/``): the paper-style tables of
+:mod:`earl_m2t.gen.views.tables` as one Markdown file."""
 
 from __future__ import annotations
 
 import re
-from pathlib import Path
-from typing import TYPE_CHECKING
 
-from earl_m2t.gen.engine import environment, load_target, render as render_template
-from earl_m2t.gen.views.tables import build_tables
-from earl_m2t.model.elements import EarlModel
+from earl_m2t.gen.engine import render as render_template
+from earl_m2t.gen.rendered import Rendered
+from earl_m2t.gen.target import Renderer, TargetRun
+from earl_m2t.gen.targets import tables
 
-if TYPE_CHECKING:
-    from earl_m2t.gen.generate import Rendered
-
-TARGET = "markdown"
 _SPECIAL = re.compile(r"([\\`*_\[\]<>|#])")
 
 
@@ -33,13 +28,14 @@ def code_span(text: object) -> str:
     return f"{fence}{pad}{value}{pad}{fence}".replace("|", "\\|")
 
 
-def render_target(model: EarlModel, templates: Path | None, strict: bool) -> Rendered:
-    from earl_m2t.gen.generate import Rendered
-
-    env = environment(TARGET, templates)
+def _render(run: TargetRun) -> Rendered:
+    env = run.environment()
     env.filters["md"] = escape_markdown
     env.filters["code"] = code_span
-    tables = build_tables(model)
-    files = {path: render_template(env, template, t=tables)
-             for template, path in sorted(load_target(TARGET)["templates"].items())}
+    specification = run.views.get(tables.VIEW)
+    files = {path: render_template(env, template, t=specification)
+             for template, path in sorted(run.spec["templates"].items())}
     return Rendered(files, {})
+
+
+RENDERER = Renderer(views=(tables.VIEW,), render=_render)

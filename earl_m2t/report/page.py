@@ -3,8 +3,9 @@
 ``index.html`` (style inline, no script, nothing from the network) shows the diagrams of
 :mod:`earl_m2t.gen.diagrams` (files in ``diagrams/`` beside it), the paper-style tables of
 :mod:`earl_m2t.gen.views.tables` and the findings of the check, each linked to the element
-it is about. Every element has an id derived from its path (:mod:`earl_m2t.gen.views.anchors`);
-the page's own sections use ids starting with ``report-``.
+it is about; with ``--verify``, also the result of the model checker
+(:mod:`earl_m2t.report.verification`). Every element has an id derived from its path
+(:mod:`earl_m2t.gen.views.anchors`); the page's own sections use ids starting with ``report-``.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from earl_m2t.gen.diagrams import RenderedDiagram, diagram_files, render_diagram
 from earl_m2t.gen.engine import environment, load_target, render as render_template
 from earl_m2t.gen.views.tables import SpecTables, build_tables
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.report.verification import verification_view
 from earl_m2t.verify.run import VerifyResult
 
 TARGET = "report"
@@ -69,7 +71,8 @@ def render_report(model: EarlModel, findings: Sequence[Diagnostic], png: bool = 
         "diagrams": _diagram_refs(rendered, folder),
         "findings": rows,
         "counts": Counter(row.severity for row in rows),
-        "verification": None if verification is None else _verification(model, verification, folder, files, tables),
+        "verification": None if verification is None else verification_view(model, verification, folder, files,
+                                                                             tables),
     }
     for template, path in sorted(load_target(TARGET)["templates"].items()):
         files[path] = render_template(env, template, **context)
@@ -94,25 +97,3 @@ def _findings(findings: Sequence[Diagnostic], tables: SpecTables) -> list[Findin
     return [FindingRow(code=d.code, severity=d.severity.value, message=d.message, element=d.element,
                        anchor=tables.anchors.nearest(d.element) if d.element else "", line=d.location.line)
             for d in findings]
-
-
-def _verification(model: EarlModel, result: VerifyResult, folder: str, files: dict[str, bytes],
-                  tables: SpecTables) -> dict[str, object]:
-    """The report's view of a verification; writes a sequence diagram per counterexample into ``files``."""
-    from earl_m2t.gen.dot import run_dot
-    from earl_m2t.verify.sequence import counterexample_dot
-
-    rows = []
-    for number, finding in enumerate(result.findings, 1):
-        diagram = ""
-        if finding.trace:
-            name = f"{folder}counterexample-{number}"
-            source = counterexample_dot(model, finding)
-            files[f"{name}.dot"] = bytes(source)
-            files[f"{name}.svg"] = run_dot(bytes(source), "svg", name).output
-            diagram = f"{name}.svg"
-        rows.append({"code": finding.code, "element": finding.element, "message": finding.message,
-                     "line": finding.location.line, "diagram": diagram,
-                     "anchor": tables.anchors.nearest(finding.element) if finding.element else ""})
-    return {"findings": rows, "proven": result.proven, "not_proven": result.not_proven,
-            "explored": f"{result.states} states, {result.transitions} transitions, depth {result.depth}"}

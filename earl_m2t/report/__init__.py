@@ -1,0 +1,2 @@
+"""``earl-m2t report``: a static HTML specification of a model, composed of what ``gen``
+makes (diagrams, tables) and what ``check`` and ``verify`` find."""
