@@ -53,7 +53,7 @@ def main() -> int:
         ("sample + a predicate property", [sample, "--ltl", ESTOP_SEEN]),
         ("generated 1 MB model", [str(_model_1mb())]),
     ]
-    print(f"| model | processes | states | transitions | depth | findings | not proven | wall (s) |")
+    print("| model | processes | states | transitions | depth | findings | not proven | wall (s) |")
     print("|---|---|---|---|---|---|---|---|")
     for name, case in cases:
         seconds, result = _measure(case, args.runs)

@@ -19,7 +19,7 @@ class Severity(str, Enum):
         return {"error": 0, "warning": 1, "info": 2}[self.value]
 
     @classmethod
-    def parse(cls, text: str) -> "Severity":
+    def parse(cls, text: str) -> Severity:
         key = text.strip().lower()
         aliases = {"e": "error", "w": "warning", "i": "info"}
         return cls(aliases.get(key, key))

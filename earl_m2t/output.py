@@ -50,7 +50,7 @@ class OutputError(Exception):
     ``partial`` is what was written before a failure part-way (a full disk, a folder made
     read-only meanwhile); None when nothing was written."""
 
-    def __init__(self, message: str, partial: "WriteReport | None" = None) -> None:
+    def __init__(self, message: str, partial: WriteReport | None = None) -> None:
         super().__init__(message)
         self.partial = partial
 
@@ -69,10 +69,10 @@ class WriteReport:
     def lines(self) -> list[str]:
         """One line per file, in path order: ``wrote``, ``unchanged``, ``created`` or ``kept DIR/x``,
         then ``removed DIR/.x.tmp`` for each stale temporary file."""
-        status = {path: "wrote" for path in self.written}
-        status.update({path: "unchanged" for path in self.unchanged})
-        status.update({path: "created" for path in self.created})
-        status.update({path: "kept" for path in self.kept})
+        status = dict.fromkeys(self.written, "wrote")
+        status.update(dict.fromkeys(self.unchanged, "unchanged"))
+        status.update(dict.fromkeys(self.created, "created"))
+        status.update(dict.fromkeys(self.kept, "kept"))
         return [f"{status[path]} {self.out_dir / path}" for path in sorted(status)] + [
             f"removed {self.out_dir / path} (a temporary file left by an interrupted run)" for path in self.removed]
 

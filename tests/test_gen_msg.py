@@ -28,7 +28,14 @@ from genmsg.msg_loader import load_depends, load_msg_by_type  # noqa: E402
 from earl_m2t.api import load  # noqa: E402
 from earl_m2t.gen import GenError, generate, render  # noqa: E402
 from earl_m2t.gen.views.msg import (  # noqa: E402
-    CONSTANT_NAME, FIELD_NAME, MESSAGE_NAME, constant_name, field_name, message_name, package_name)
+    CONSTANT_NAME,
+    FIELD_NAME,
+    MESSAGE_NAME,
+    constant_name,
+    field_name,
+    message_name,
+    package_name,
+)
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 PACKAGE = "pick_and_place_msgs"

@@ -26,6 +26,7 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from tests.support.load import cpu_hogs, run_until  # noqa: E402
+
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
 PYTHON = "/usr/bin/python3"  # the system python, which has catkin_pkg

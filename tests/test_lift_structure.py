@@ -12,7 +12,6 @@ from earl_m2t import check, load  # noqa: E402
 from tests.support.papyrus_builder import REAL, End, ModelBuilder  # noqa: E402
 
 
-
 def _cell_model(tmp_path: Path, robots: int, stereotypes: bool = True) -> Path:
     """A system with ``cell/r [robots]``, each robot holding one ``arm/a`` (cs, ve, re), and a
     ``plan/a`` outside the robots commanding every arm's cs."""

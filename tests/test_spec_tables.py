@@ -15,8 +15,8 @@ from lxml import html
 
 from earl_m2t.api import load
 from earl_m2t.gen import render
-from earl_m2t.report.page import render_report
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.report.page import render_report
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"

@@ -136,7 +136,7 @@ def test_the_choices_named_in_the_command_line_are_those_of_the_implementations(
     from earl_m2t.render.diagnostics import FORMATS as CHECK_FORMATS
     from earl_m2t.verify.render import RENDERERS
 
-    assert check.OUTPUT_FORMATS == tuple(sorted(CHECK_FORMATS))
-    assert verify.OUTPUT_FORMATS == tuple(RENDERERS)
+    assert tuple(sorted(CHECK_FORMATS)) == check.OUTPUT_FORMATS
+    assert tuple(RENDERERS) == verify.OUTPUT_FORMATS
     assert dialect_names() == dialect_table().names
     assert profile_formats() == PROFILE_FORMATS

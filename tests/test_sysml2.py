@@ -10,12 +10,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from test_sample_dialects_equal import FILES, lifted, without_location
 
 from earl_m2t.api import check, load
 from earl_m2t.cli.app import main
 from earl_m2t.convert import to_sysml
 from earl_m2t.export import model_to_dict
-from test_sample_dialects_equal import FILES, lifted, without_location
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml"

@@ -63,8 +63,9 @@ def without_route(value: object) -> object:
 def test_converting_the_other_forms_reads_back_as_the_same_model_but_for_the_route(tmp_path: Path) -> None:
     """`convert` writes every EARL block as specialising its EARL definition directly: the
     agent recognised through SensingAgent comes back recognised by its EARL definition."""
-    from earl_m2t.convert import to_sysml
     from test_sample_dialects_equal import without_location
+
+    from earl_m2t.convert import to_sysml
 
     target = tmp_path / "forms.sysml"
     text = to_sysml(load(FORMS).model)

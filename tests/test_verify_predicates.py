@@ -9,8 +9,8 @@ import pytest
 
 from earl_m2t.api import load
 from earl_m2t.cli.app import main
-from earl_m2t.model.location import Location
 from earl_m2t.model.directives import LtlProperty
+from earl_m2t.model.location import Location
 from earl_m2t.verify.promela import translate
 
 ROOT = Path(__file__).resolve().parents[1]

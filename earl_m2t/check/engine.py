@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
-from typing import Callable, Iterable, Iterator
 
 from earl_m2t.cache import cached
 from earl_m2t.check.registry import RuleInfo, catalogue
@@ -14,7 +14,8 @@ from earl_m2t.check.tables import LinkTable, using_permitted_links
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
-from earl_m2t.ocl import Invariant, OclEvaluationError, check as ocl_check
+from earl_m2t.ocl import Invariant, OclEvaluationError
+from earl_m2t.ocl import check as ocl_check
 from earl_m2t.resources import metamodel_path
 
 

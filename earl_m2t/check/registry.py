@@ -7,9 +7,9 @@ Rows come from ``metamodel/rules/catalogue.toml``; OCL rules are the invariants 
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import cache
-from typing import Iterable, Iterator
 
 from earl_m2t.diagnostics import Severity
 from earl_m2t.resources import metamodel_path

@@ -6,8 +6,8 @@ The rule modules of :mod:`earl_m2t.check.rules` register themselves here when im
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Callable, Iterable
 
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location

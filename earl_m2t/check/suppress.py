@@ -9,8 +9,8 @@ silences).
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import fields, is_dataclass
-from typing import Iterable, Iterator, Mapping
 
 from earl_m2t.check.engine import CheckOptions
 from earl_m2t.check.registry import catalogue

@@ -7,10 +7,10 @@ engine installs the replacement for the duration of one check with :func:`using_
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from contextvars import ContextVar
 from functools import cache
-from typing import Iterator, Mapping
 
 from earl_m2t.resources import metamodel_path
 

@@ -10,9 +10,9 @@ import argparse
 import gc
 import os
 import sys
-from typing import NoReturn, Sequence
+from collections.abc import Sequence
+from typing import NoReturn
 
-from earl_m2t.version import __version__
 from earl_m2t.cli import check as check_command
 from earl_m2t.cli import convert as convert_command
 from earl_m2t.cli import diff as diff_command
@@ -25,6 +25,7 @@ from earl_m2t.cli import show as show_command
 from earl_m2t.cli import stats as stats_command
 from earl_m2t.cli import trace as trace_command
 from earl_m2t.cli import verify as verify_command
+from earl_m2t.version import __version__
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 

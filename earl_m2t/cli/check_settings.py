@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable
 
 from earl_m2t.check.engine import CheckOptions
 from earl_m2t.check.registry import select_codes

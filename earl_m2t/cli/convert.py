@@ -37,9 +37,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import load
+    from earl_m2t.cli.model_file import write_model_file
     from earl_m2t.convert import to_sysml
     from earl_m2t.diagnostics import ModelReadError
-    from earl_m2t.cli.model_file import write_model_file
 
     try:
         loaded = load(args.model, args.dialect, args.profiles)

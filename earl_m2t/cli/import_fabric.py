@@ -34,11 +34,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from earl_m2t.cli.model_file import write_model_file
     from earl_m2t.convert import to_sysml
     from earl_m2t.diagnostics import ModelReadError
     from earl_m2t.fabric import packages_to_model, read_package
     from earl_m2t.gen.names import cpp_identifier
-    from earl_m2t.cli.model_file import write_model_file
 
     target = Path(args.output)
     if not is_sysml2(target):

@@ -38,8 +38,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import load
     from earl_m2t.diagnostics import ModelReadError
-    from earl_m2t.model.location import Location
     from earl_m2t.model.directives import LtlProperty
+    from earl_m2t.model.location import Location
     from earl_m2t.verify.ltl import LtlError, tokens
     from earl_m2t.verify.render import RENDERERS
     from earl_m2t.verify.run import VerifyOptions, verify_model

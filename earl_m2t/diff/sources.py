@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import subprocess
 import tempfile
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
-from typing import Iterator
 
 from earl_m2t.api import load
 from earl_m2t.diagnostics import ModelReadError

@@ -15,14 +15,14 @@ to another imported package's buffers that use the same IPC channel (``<io_buffe
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.fabric.conditions import ConditionError, parse_fabric_condition
 from earl_m2t.fabric.package import FabricPackage, Where
-from earl_m2t.lift.structure import computed_agent_type
 from earl_m2t.lift.conditions import resolve_subsystem
+from earl_m2t.lift.structure import computed_agent_type
 from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (

@@ -15,8 +15,9 @@ from pathlib import Path
 import jinja2
 
 from earl_m2t.gen.dot import DotError, run_dot
+from earl_m2t.gen.engine import environment, load_target
+from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.engine import environment, load_target, render as render_template
 from earl_m2t.gen.rendered import DOT_FILE_MARKER
 from earl_m2t.gen.views.diagrams import Diagram, build_diagrams
 from earl_m2t.gen.views.tables import SpecTables, build_tables

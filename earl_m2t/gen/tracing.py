@@ -14,8 +14,9 @@ target with and without tracing and compares the bytes.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, Iterator
+from typing import Any
 
 import jinja2
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 import re
 
-from earl_m2t.model.kinds import RECEIVE_MODES, ReceiveMode
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.model.elements import Activation, BufferGroup
+from earl_m2t.model.kinds import RECEIVE_MODES, ReceiveMode
 from earl_m2t.read.xmi import Element, RawModel
 
 _SEPARATORS = re.compile(r"[\s,;]+")

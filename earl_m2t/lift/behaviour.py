@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from earl_m2t.lift.activation import activation_of
 from earl_m2t.lift.recognise import Recogniser, suffix_of
+from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.elements import (
     Access,
     ActivityProblem,
@@ -21,7 +22,6 @@ from earl_m2t.model.elements import (
     State,
     Transition,
 )
-from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.kinds import AccessMode
 from earl_m2t.model.naming import stem, suffix
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel

@@ -9,8 +9,8 @@ from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.activation import buffer_groups, receive_of
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.conditions import ConditionLifter
-from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.datatypes import DataTypeLifter
+from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
 from earl_m2t.model.elements import (
@@ -27,6 +27,7 @@ from earl_m2t.model.elements import (
 )
 from earl_m2t.model.kinds import Direction, GroupKind, ReceiveMode, SubsystemKind
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
+
 
 def computed_agent_type(has_e: bool, has_r: bool, has_t: bool) -> str:
     """Paper Table 2: C always, E with effectors, R with receptors, T with inter-agent links."""

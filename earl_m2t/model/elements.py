@@ -7,9 +7,9 @@ same string diagnostics and ``show`` print, so the model stays a tree of frozen 
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Iterator, Mapping
 
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.datatypes import DataType
@@ -17,7 +17,6 @@ from earl_m2t.model.directives import LtlProperty, Suppression
 from earl_m2t.model.kinds import AccessMode, Direction, GroupKind, LinkScope, ReceiveMode, SubsystemKind
 from earl_m2t.model.location import Location
 from earl_m2t.model.scope import Scope
-
 
 
 @dataclass(frozen=True, slots=True)

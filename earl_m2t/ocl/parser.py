@@ -251,10 +251,10 @@ def _describe(text: str, position: int, expected_rules: list[Any]) -> str:
             word = _DESCRIPTIONS.get(pattern, pattern)
         if word not in words:
             words.append(word)
-    if _EXPRESSION_START <= set(words):
+    if set(words) >= _EXPRESSION_START:
         words = [w for w in words if w not in _OPERANDS]
         words.insert(0, "an expression")
-    if _OPERATORS <= set(words):
+    if set(words) >= _OPERATORS:
         words = [w for w in words if w not in _OPERATORS]
         words.insert(0, "an operator")
     words = [w if w.startswith(("a ", "an ", "end ", "'")) else f"'{w}'" for w in words]

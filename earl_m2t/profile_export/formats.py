@@ -24,7 +24,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from earl_m2t.version import __version__
 from earl_m2t.profile_export.spec import (
     DefaultValue,
     ProfileExportError,
@@ -32,6 +31,7 @@ from earl_m2t.profile_export.spec import (
     StereotypeSpec,
     TagSpec,
 )
+from earl_m2t.version import __version__
 
 __all__ = ["CONTEXTS", "FORMATS", "Target", "emf_id", "papyrus_ns_uri"]
 

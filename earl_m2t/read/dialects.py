@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import re
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cache
-from typing import Any, Sequence, TypeAlias
+from typing import Any, TypeAlias
 
 from lxml import etree
 

@@ -17,9 +17,10 @@ file's own ids, stereotypes and namespaces (its location names that file).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Protocol, Sequence, TypeAlias
+from typing import Protocol, TypeAlias
 
 from lxml import etree
 
@@ -107,10 +108,10 @@ class StereotypeApplication:
 class Resolver(Protocol):
     """The files a model references (:class:`earl_m2t.read.resources.ResourceSet`)."""
 
-    def model_of(self, el: Element) -> "RawModel | None":
+    def model_of(self, el: Element) -> RawModel | None:
         """The model an element was read from, None when it is the only one."""
 
-    def element(self, raw: "RawModel", resource: str, fragment: str) -> Element | None:
+    def element(self, raw: RawModel, resource: str, fragment: str) -> Element | None:
         """The element ``resource#fragment`` names, the resource relative to ``raw``'s file."""
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from typing import Callable, Iterable
+from collections.abc import Callable, Iterable
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.render.check_report import CheckReport

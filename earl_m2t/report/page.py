@@ -12,16 +12,17 @@ from __future__ import annotations
 
 import re
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
 from html import escape
 from pathlib import Path
-from typing import Sequence
 
 from markupsafe import Markup
 
 from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.gen.diagrams import RenderedDiagram, diagram_files, render_diagrams
-from earl_m2t.gen.engine import environment, load_target, render as render_template
+from earl_m2t.gen.engine import environment, load_target
+from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.views.tables import SpecTables, build_tables
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.report.verification import verification_view

@@ -16,6 +16,7 @@ from earl_m2t.read.safe_xml import parse_xml_file
 from earl_m2t.read.xmi import Element, stereotype_key
 from earl_m2t.stereotypes.vocabulary import SpecialisingProfile, specialising_profile_settings
 
+
 def is_profile_root(root: Element) -> bool:
     """True for the root element of an EA profile or MDG Technology file."""
     return etree.QName(root).localname in specialising_profile_settings()["roots"]

@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 
 from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
-from earl_m2t.verify.ltl import PredicateAtom, StateAtom, Token, tokens as ltl_tokens
+from earl_m2t.verify.ltl import PredicateAtom, StateAtom, Token
+from earl_m2t.verify.ltl import tokens as ltl_tokens
 from earl_m2t.verify.outcomes import Outcome, StateOutcomes, state_outcomes
 
 OUTCOME_MARK = "EARL"  # the printf tag of a taken outcome, read back from SPIN's replay

@@ -9,10 +9,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from earl_m2t.model.elements import EarlModel, State, Subsystem
+from earl_m2t.model.directives import LtlProperty
+from earl_m2t.model.elements import EarlModel, Subsystem
 from earl_m2t.model.location import Location
 from earl_m2t.verify import spin
-from earl_m2t.model.directives import LtlProperty
 from earl_m2t.verify.promela import OUTCOME_MARK, Specification, Step, translate
 
 MEMORY_MB = 1024  # pan's state storage (-DMEMLIM)

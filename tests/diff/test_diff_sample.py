@@ -16,7 +16,7 @@ from earl_m2t.diff import diff_models
 from earl_m2t.diff.formats import to_text
 from earl_m2t.model.elements import Activation, BufferGroup, EarlModel, Subsystem
 from tests.diff import variants
-from tests.diff.variants import SAMPLE, SAMPLES, ROOT
+from tests.diff.variants import ROOT, SAMPLE, SAMPLES
 
 
 def earl(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:

@@ -20,9 +20,9 @@ from __future__ import annotations
 import copy
 import sys
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import pytest
 from lxml import etree

@@ -126,11 +126,13 @@ class Layers:
     exceptions: frozenset[tuple[str, str]]  # (importer, imported) allowed to run upwards
 
     def layer_of(self, module: str) -> int:
-        """The position of a module's layer (0 the top); the longest matching prefix decides."""
+        """The position of a module's layer (0 the top); the longest matching prefix decides.
+        The package itself (``earl_m2t``, its ``__init__``) names no module but itself."""
         best, position = -1, -1
         for number, (_, prefixes) in enumerate(self.order):
             for prefix in prefixes:
-                if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > best:
+                inside = module.startswith(prefix + ".") and prefix != PACKAGE
+                if (module == prefix or inside) and len(prefix) > best:
                     best, position = len(prefix), number
         if position < 0:
             raise KeyError(f"{module} is in no layer of {LAYERS.name}")

@@ -202,7 +202,7 @@ class Multiplicity:
         return self.upper == self.lower
 
 
-MultiplicitySpec = Union[None, int, str, tuple[int, Union[int, None]], Multiplicity]
+MultiplicitySpec = Union[None, int, str, tuple[int, int | None], Multiplicity]
 
 
 # ---- XML writing ---------------------------------------------------------------------

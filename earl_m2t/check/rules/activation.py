@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import math
-from typing import Iterator
+from collections.abc import Iterator
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Iterator
+from collections.abc import Iterator
 
 from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE
 from earl_m2t.analysis.shared_guards import SharedGuards, shared_guards

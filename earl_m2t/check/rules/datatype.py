@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
-from typing import Callable, Iterator
+from collections.abc import Callable, Iterator
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, Memory, PartialFunction, PrimitivePredicate
 from earl_m2t.model.graph import datatype_graph
 from earl_m2t.model.location import Location
-from earl_m2t.model.naming import (collision_key, field_name, identifier_problem, length_problem, message_name,
-                                   windows_reserved)
+from earl_m2t.model.naming import (
+    collision_key,
+    field_name,
+    identifier_problem,
+    length_problem,
+    message_name,
+    windows_reserved,
+)
 from earl_m2t.shorten import shortened
 
 

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from typing import Iterator
+from collections.abc import Iterator
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import EarlModel, Group

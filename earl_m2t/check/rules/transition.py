@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Iterator
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import BasicBehaviour, EarlModel, Subsystem

@@ -3,7 +3,8 @@ link uses. The ``ros`` target includes its files; ``ros`` and ``orocos`` read it
 
 from __future__ import annotations
 
-from earl_m2t.gen.engine import load_target, render as render_template
+from earl_m2t.gen.engine import load_target
+from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.rendered import MSG_FILE_MARKER, Rendered, put_file
 from earl_m2t.gen.target import Renderer, TargetRun, View, Views

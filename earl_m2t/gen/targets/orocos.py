@@ -5,7 +5,8 @@ and user files."""
 
 from __future__ import annotations
 
-from earl_m2t.gen.engine import load_target, render as render_template
+from earl_m2t.gen.engine import load_target
+from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.rendered import Rendered, put_file
 from earl_m2t.gen.target import Renderer, TargetRun, View, Views
 from earl_m2t.gen.targets import cpp, msg

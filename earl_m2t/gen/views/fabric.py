@@ -15,8 +15,9 @@ Conditions: earl_m2t/gen/views/fabric_conditions.py.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, Iterable
+from typing import Any
 from xml.sax.saxutils import escape
 
 from earl_m2t.gen.errors import GenError

@@ -19,7 +19,7 @@ from typing import Any
 from earl_m2t.gen.errors import GenError
 from earl_m2t.model.datatypes import DataType, Field
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.model.naming import _table, field_name, identifier, identifier_problem, message_name
+from earl_m2t.model.naming import _table, field_name, identifier_problem, message_name
 
 Data = dict[str, Any]
 
