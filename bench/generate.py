@@ -304,7 +304,8 @@ class _Generator:
         gains = ve.memory("gains/m", self.gains)
         modes = _modes(VE_MODES, max(self.n_states - 2, 0))
         fault = ve.primitive_predicate(
-            "fault/pp", f"motorControllerCommand/ib.msg.emergencyStopCommand ∨ integralError/mi.data > {_threshold(i, j, 1)}")
+            "fault/pp",
+            f"motorControllerCommand/ib.msg.emergencyStopCommand ∨ integralError/mi.data > {_threshold(i, j, 1)}")
         settled = ve.primitive_predicate("settled/pp", f"integralError/mi.data < 0.0{j % 9 + 1}")
         triggers = [ve.primitive_predicate(f"{mode}Requested/pp", f"motorControllerCommand/ib.msg.mode == {k}")
                     for k, mode in enumerate(modes, start=1)]
@@ -491,7 +492,7 @@ def describe(path: Path) -> None:
     size = path.stat().st_size
     kinds: Counter[str] = Counter()
     xmi_type = "{http://www.omg.org/spec/XMI/20131001}type"
-    parser_options = dict(huge_tree=True, resolve_entities=False, no_network=True)
+    parser_options = {"huge_tree": True, "resolve_entities": False, "no_network": True}
     for _, el in etree.iterparse(str(path), events=("end",), **parser_options):
         if not isinstance(el.tag, str):
             continue

@@ -237,7 +237,8 @@ def report(results: list[dict], startup: Summary, runs: int, help_run: Summary |
         print("== growth from 10 MB to 100 MB: (100 MB ratio) / (10 MB ratio) ==")
         for key, label in (("time_ratio", "time"), ("memory_ratio", "memory")):
             growth = by_size[100][key] / by_size[10][key]
-            print(f"   {label:7s} {by_size[100][key]:.2f}× / {by_size[10][key]:.2f}× = {fmt_ratio(growth, TARGET_GROWTH)}")
+            print(f"   {label:7s} {by_size[100][key]:.2f}× / {by_size[10][key]:.2f}× = "
+                  f"{fmt_ratio(growth, TARGET_GROWTH)}")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -4,9 +4,9 @@ command does not re-parse them on every start.
 
 Entries are keyed by a hash of the source file, the earl-m2t version, the Python version and
 the size and modification time of earl-m2t's own modules (so a changed loader in a working copy
-does not read what an older one cached); a stale or unreadable entry is rebuilt. The cache lives in ``$XDG_CACHE_HOME/earl-m2t``
-(``~/.cache/earl-m2t``); ``EARL_M2T_NO_CACHE=1`` turns it off. Failing to write it is not an
-error.
+does not read what an older one cached); a stale or unreadable entry is rebuilt. The cache
+lives in ``$XDG_CACHE_HOME/earl-m2t`` (``~/.cache/earl-m2t``); ``EARL_M2T_NO_CACHE=1`` turns it
+off. Failing to write it is not an error.
 """
 
 from __future__ import annotations

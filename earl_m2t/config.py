@@ -125,7 +125,8 @@ def load_config(file: Path) -> Config:
         try:
             severity.append((code, Severity.parse(str(level))))
         except ValueError:
-            raise ConfigError(file, f"'{prefix}severity.{code}' must be error, warning or info, not {level!r}") from None
+            raise ConfigError(file, f"'{prefix}severity.{code}' must be error, warning or info, "
+                                    f"not {level!r}") from None
     per_file = table.get("per-file-ignores", {})
     if not isinstance(per_file, dict):
         raise ConfigError(file, f"'{prefix}per-file-ignores' must be a table of \"glob\" = [codes]")

@@ -74,7 +74,7 @@ def _system(system: System) -> dict[str, Any]:
             for r in system.robots
         ],
         "agents": [_agent(a) for a in system.agents],
-        "links": [_link(l) for l in system.links],
+        "links": [_link(link) for link in system.links],
         "groups": [_group(g) for g in system.groups],
     }
 
@@ -95,7 +95,7 @@ def _agent(agent: Agent) -> dict[str, Any]:
         "recognised_by": agent.recognised_by,
         **_where(agent.location),
         "subsystems": [_subsystem(s) for s in agent.subsystems],
-        "links": [_link(l) for l in agent.links],
+        "links": [_link(link) for link in agent.links],
         "groups": [_group(g) for g in agent.groups],
     }
 
@@ -144,7 +144,8 @@ def _subsystem(sub: Subsystem) -> dict[str, Any]:
              "user_code": pp.fun is None, **_where(pp.location)}
             for pp in sub.predicates
         ],
-        "exclusions": [{"name": e.name, "predicates": list(e.predicates), **_where(e.location)} for e in sub.exclusions],
+        "exclusions": [{"name": e.name, "predicates": list(e.predicates), **_where(e.location)}
+                       for e in sub.exclusions],
         "buffer_groups": [{"name": g.name, "obligatory": list(g.obligatory), "optional": list(g.optional),
                            **_where(g.location)} for g in sub.buffer_groups],
     }

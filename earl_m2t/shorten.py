@@ -11,7 +11,7 @@ import re
 
 LIMIT = 120
 _HEAD, _TAIL = 48, 24
-_LONG_WORD = re.compile(r"\S{%d,}" % (LIMIT + 1))
+_LONG_WORD = re.compile(rf"\S{{{LIMIT + 1},}}")
 
 
 def shortened(value: str, limit: int = LIMIT) -> str:

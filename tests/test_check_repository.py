@@ -252,7 +252,8 @@ def test_the_configuration_is_found_from_a_subfolder_and_globs_are_relative_to_i
 def test_pyproject_table_is_read_and_earl_m2t_toml_wins(repo: Path) -> None:
     config = (repo / "earl-m2t.toml").read_text(encoding="utf-8")
     (repo / "earl-m2t.toml").unlink()
-    pyproject = "[project]\nname = 'robots'\n\n[tool.earl-m2t]\n" + config.replace("[severity]", "[tool.earl-m2t.severity]")
+    pyproject = ("[project]\nname = 'robots'\n\n[tool.earl-m2t]\n"
+                 + config.replace("[severity]", "[tool.earl-m2t.severity]"))
     pyproject = pyproject.replace("[per-file-ignores]", "[tool.earl-m2t.per-file-ignores]")
     (repo / "pyproject.toml").write_text(pyproject, encoding="utf-8")
     document = json.loads(earl("models", "--format", "json", cwd=repo).stdout)

@@ -121,7 +121,8 @@ def test_show_prints_the_structure_of_the_sample() -> None:
     assert "agent manip/a [ManipulatorAgent] in pickAndPlace/r  type CET, declared CET" in text
     assert "agent task/a [TaskAgent]  type CT, declared CT" in text
     assert "ve motorControllerK/ve ×6 (motorController1/ve … motorController6/ve) [MotorController]" in text
-    assert "jointMove,jointMove/t: jointMove → jointMove if newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun  priority 1" in text
+    assert ("jointMove,jointMove/t: jointMove → jointMove if newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun  priority 1"
+            in text)
     assert "task/a,manip/a: task/a.cs.manipulatorCommand/ob → manip/a.cs.manipulatorCommand/ib" in text
 
 
@@ -136,8 +137,10 @@ def test_show_json_is_deterministic_and_complete() -> None:
     assert agents["manip/a"]["type"] == "CET" and agents["task/a"]["type"] == "CT"
     cs = next(s for s in agents["manip/a"]["subsystems"] if s["kind"] == "cs")
     assert cs["fsm"]["initial"] == "idle"
-    assert [b["name"] for b in cs["behaviours"]] == ["idle/bb", "jointMove/bb", "operationalMove/bb", "emergencyStop/bb"]
-    assert {l["name"] for l in system["links"]} == {"task/a,manip/a", "manip/a,task/a", "task/a,grip/a", "grip/a,task/a"}
+    assert [b["name"] for b in cs["behaviours"]] == [
+        "idle/bb", "jointMove/bb", "operationalMove/bb", "emergencyStop/bb"]
+    assert {link["name"] for link in system["links"]} == {
+        "task/a,manip/a", "manip/a,task/a", "task/a,grip/a", "grip/a,task/a"}
     assert any(d["name"] == "ManipulatorCommand" for d in document["datatypes"])
 
 

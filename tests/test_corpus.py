@@ -161,7 +161,7 @@ def test_a_corpus_file_is_shown_checked_and_counted_without_a_traceback(relative
     assert document["dialect"] == expected(relative, READ)
     assert document["earl"] is False and document["systems"] == []
     assert checked.returncode == 1, checked.stdout + checked.stderr
-    findings = [line for line in checked.stdout.splitlines()[:-1]]
+    findings = checked.stdout.splitlines()[:-1]
     assert len([f for f in findings if " R003 error: " in f]) == 1, checked.stdout
     unresolved = [f.partition(" R004 warning: unresolved reference ")[2] for f in findings if " R004 " in f]
     resources = [f.partition("#")[0] for f in unresolved]

@@ -212,7 +212,7 @@ def test_packages_on_one_ipc_channel_are_linked(tmp_path: Path) -> None:
         'alias="st"      type="velma_core_cs_task_cs_msgs::Status"',
         'alias="st"      type="velma_core_cs_task_cs_msgs::Command"'), encoding="utf-8")
     model, _ = packages_to_model([read_package(source), read_package(echo)], "pair")
-    assert [(l.source, l.target, l.scope) for l in model.links] == [
+    assert [(link.source, link.target, link.scope) for link in model.links] == [
         ("velma_task.cs_ros_interface.cmd/ob", "velma_echo.cs_ros_interface.st/ib", "system")]
     channels: dict[str, dict[str, str]] = {}
     for name, content in render(model, "orocos").generated.items():

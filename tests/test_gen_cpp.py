@@ -135,8 +135,8 @@ def test_a_user_file_edit_survives_regeneration(tmp_path: Path) -> None:
     model = load(SAMPLE).model
     generate(model, tmp_path)
     user = tmp_path / "user" / "manip_a" / "cs" / "jointMove_pf.hpp"
-    edited = user.read_text(encoding="utf-8").replace("  void execute() noexcept override {",
-                                                      "  void execute() noexcept override {\n    motionFinished_mo() = true;")
+    execute = "  void execute() noexcept override {"
+    edited = user.read_text(encoding="utf-8").replace(execute, execute + "\n    motionFinished_mo() = true;")
     user.write_text(edited, encoding="utf-8")
     report = generate(model, tmp_path)
     assert "user/manip_a/cs/jointMove_pf.hpp" in report.write.kept
@@ -234,8 +234,8 @@ def _compiled(text: str, owner: str = "manip/a.cs", model: EarlModel | None = No
     calls = {p.name: f"{p.name.split('/')[0]}_pp()" for p in sub.predicates}
     compiler = ExprCompiler(model, sub, Symbols(storage, calls, field_names, unbounded_capacity=16))
     assert sub.scope is not None
-    condition = ConditionLifter(model.datatypes).resolve(Condition(text, "EARL", Location("x"), owner, ConditionRole.IC),
-                                                         sub.scope)
+    written = Condition(text, "EARL", Location("x"), owner, ConditionRole.IC)
+    condition = ConditionLifter(model.datatypes).resolve(written, sub.scope)
     assert condition is not None and condition.expr is not None, condition
     return compiler.compile(condition, "test")
 

@@ -99,7 +99,8 @@ def run_dot_json(source: bytes) -> bytes:
 
 def test_the_overlap_check_sees_an_overlap() -> None:
     def text(x: float, y: float, what: str) -> dict[str, Any]:
-        return {"_ldraw_": [{"op": "F", "size": 10}, {"op": "T", "pt": [x, y], "align": "c", "width": 60, "text": what}]}
+        return {"_ldraw_": [{"op": "F", "size": 10},
+                            {"op": "T", "pt": [x, y], "align": "c", "width": 60, "text": what}]}
 
     assert overlaps({"objects": [text(100, 100, "a"), text(130, 104, "b")]}) == [("a", "b")]
     assert overlaps({"objects": [text(100, 100, "a"), text(200, 100, "b")]}) == []
@@ -184,7 +185,8 @@ def test_without_dot_gen_says_so_in_one_line(tmp_path: Path, monkeypatch: pytest
     monkeypatch.setenv("PATH", str(tmp_path))
     assert main(["gen", str(SAMPLE), "--target", "diagrams", "-o", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err
-    assert err == "earl-m2t: gen: Graphviz 'dot' was not found on PATH; install Graphviz (Debian: apt-get install graphviz)\n"
+    assert err == ("earl-m2t: gen: Graphviz 'dot' was not found on PATH; install Graphviz "
+                   "(Debian: apt-get install graphviz)\n")
     assert not (tmp_path / "out").exists()
     with pytest.raises(GenError):
         run_dot(b"digraph g {}", "svg")

@@ -220,7 +220,8 @@ def test_a_user_file_edit_survives_regeneration(tmp_path: Path) -> None:
 
 def test_colliding_component_names_are_refused_in_one_line(tmp_path: Path) -> None:
     # the instance grip_a_cs_gripperControl_pf would be named as the pf component of grip/a.cs
-    text = SAMPLE.read_text(encoding="utf-8").replace('name="fingerMotor/re" type=', 'name="cs_gripperControl_pf" type=')
+    text = SAMPLE.read_text(encoding="utf-8").replace('name="fingerMotor/re" type=',
+                                                      'name="cs_gripperControl_pf" type=')
     model = tmp_path / "model.uml"
     model.write_text(text, encoding="utf-8")
     shutil.copy(SAMPLE.parent / "EARL.profile.uml", tmp_path / "EARL.profile.uml")
@@ -390,4 +391,5 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
                                        graceful=False)
             if not reached or deployer_states(lines)[:4] != SEQUENCE:
                 failures.append(f"run {attempt + 1}: {deployer_states(lines)}\n" + "\n".join(lines[-30:]))
-    assert not failures, f"{len(failures)} of {LOADED_RUNS} deployments missed the sequence:\n" + "\n".join(failures[:3])
+    assert not failures, (f"{len(failures)} of {LOADED_RUNS} deployments missed the sequence:\n"
+                          + "\n".join(failures[:3]))

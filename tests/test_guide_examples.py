@@ -225,7 +225,7 @@ def _shape(model: EarlModel) -> dict[str, object]:
         "subsystems": [
             (s.kind, len(s.inputs), len(s.outputs), len(s.memory), len(s.functions)) for s in model.subsystems
         ],
-        "links": sorted((kinds(l.source), kinds(l.target)) for l in model.links),
+        "links": sorted((kinds(link.source), kinds(link.target)) for link in model.links),
         "stages": [[len(bb.stages) for bb in s.behaviours] for s in model.subsystems],
     }
 
@@ -332,7 +332,7 @@ def test_buffers_are_ports_typed_by_datatypes_and_memory_is_a_value_property() -
 @pytest.mark.parametrize("route", ROUTES)
 def test_a_link_goes_from_the_output_buffer_to_the_input_buffer_whatever_the_order_of_its_ends(route: str) -> None:
     model = lifted(f"route-{route}.uml")
-    (back,) = [l for l in model.links if l.name.endswith(("control", "cs"))]
+    (back,) = [link for link in model.links if link.name.endswith(("control", "cs"))]
     assert back.scope == "agent"
     # the connector lists the cs Input Buffer first
     assert model.buffer(back.ends[0]).direction == "in"  # type: ignore[union-attr]
@@ -351,9 +351,9 @@ def test_agents_sit_in_a_robot_or_directly_in_the_system() -> None:
 def test_inter_agent_links_join_control_subsystems_through_nested_connector_ends() -> None:
     model = lifted("inter-agent-links.uml")
     (system,) = model.systems
-    links = {l.name: l for l in system.links}
+    links = {link.name: link for link in system.links}
     assert set(links) == {"task/a,manip/a", "manip/a,task/a", "status"}
-    assert all(l.scope == "system" and l.owner == "CellSystem" for l in system.links)
+    assert all(link.scope == "system" and link.owner == "CellSystem" for link in system.links)
     forward = links["task/a,manip/a"]
     assert (forward.source, forward.target) == ("task/a.cs.manipulatorCommand/ob", "manip/a.cs.manipulatorCommand/ib")
     back = links["manip/a,task/a"]  # written with the Input Buffer end first
@@ -458,29 +458,28 @@ def test_replicated_ports_and_memory_become_n_instances() -> None:
 def test_a_connector_between_two_replicated_ends_connects_instance_k_to_instance_k() -> None:
     model = lifted("replication.uml")
     (agent,) = model.agents
-    commands = [l for l in agent.links if l.template == "cs,motorControllerK/ve"]
-    assert [(l.name, l.source, l.target) for l in commands] == [
+    commands = [link for link in agent.links if link.template == "cs,motorControllerK/ve"]
+    assert [(link.name, link.source, link.target) for link in commands] == [
         (f"cs,motorController{k}/ve", f"manip/a.cs.motorControllerCommand{k}/ob",
          f"manip/a.motorController{k}/ve.motorControllerCommand/ib")
         for k in (1, 2, 3)
     ]
-    states = [(l.source, l.target) for l in agent.links if l.template == "motorControllerK/ve,cs"]
+    states = [(link.source, link.target) for link in agent.links if link.template == "motorControllerK/ve,cs"]
     assert states == [(f"manip/a.motorController{k}/ve.motorControllerState/ob",
                        f"manip/a.cs.motorControllerState{k}/ib") for k in (1, 2, 3)]
     # two replicated parts: motorControllerK/ve [3] and motor/re [3]
-    currents = [(l.source, l.target) for l in agent.links if l.template == "motorControllerK/ve,motor/re"]
+    currents = [(link.source, link.target) for link in agent.links if link.template == "motorControllerK/ve,motor/re"]
     assert currents == [(f"manip/a.motorController{k}/ve.desiredCurrent/ob",
                          f"manip/a.motor{k}/re.desiredCurrent/ib") for k in (1, 2, 3)]
 
 
 def test_an_end_with_one_instance_fans_out_to_every_instance_of_the_other_end() -> None:
     (agent,) = lifted("replication.uml").agents
-    fan_out = [(l.source, l.target) for l in agent.links if l.template == "mode"]
+    fan_out = [(link.source, link.target) for link in agent.links if link.template == "mode"]
     assert fan_out == [("manip/a.cs.mode/ob", f"manip/a.motorController{k}/ve.mode/ib") for k in (1, 2, 3)]
 
 
 def test_replicated_predicate_forms_range_over_every_instance() -> None:
-    model = lifted("replication.uml")
     cs = subsystem("replication.uml", "manip/a.cs")
     assert cs.scope is not None
     for name, op in (("anyStop/pp", "or"), ("eachStop/pp", "or"), ("allStopped/pp", "and")):

@@ -51,7 +51,7 @@ def test_task_is_ct_and_grip_is_cet(model: EarlModel) -> None:
 
 def test_replicated_links_connect_instance_k_to_instance_k(model: EarlModel) -> None:
     manip = next(a for a in model.agents if a.name == "manip/a")
-    links = {l.name: l for l in manip.links}
+    links = {link.name: link for link in manip.links}
     assert len(manip.links) == 24
     link = links["cs,motorController3/ve"]
     assert link.source == "manip/a.cs.motorControllerCommand3/ob"
@@ -62,7 +62,7 @@ def test_replicated_links_connect_instance_k_to_instance_k(model: EarlModel) -> 
 
 def test_inter_agent_links_join_control_subsystems(model: EarlModel) -> None:
     (system,) = model.systems
-    links = {l.name: (l.source, l.target) for l in system.links}
+    links = {link.name: (link.source, link.target) for link in system.links}
     assert links["task/a,manip/a"] == ("task/a.cs.manipulatorCommand/ob", "manip/a.cs.manipulatorCommand/ib")
     assert links["grip/a,task/a"] == ("grip/a.cs.gripperStatus/ob", "task/a.cs.gripperStatus/ib")
 
@@ -81,7 +81,8 @@ def test_the_control_subsystem_memory_is_table_4(model: EarlModel, cs: Subsystem
 
 def test_the_primitive_predicates_are_table_5(cs: Subsystem) -> None:
     bodies = {p.name: p.fun.text for p in cs.predicates if p.fun is not None}
-    assert set(bodies) == {"emergencyStop/pp", "motionFinished/pp", "newJointPos/pp", "newOperationalPos/pp", "false/pp"}
+    assert set(bodies) == {"emergencyStop/pp", "motionFinished/pp", "newJointPos/pp", "newOperationalPos/pp",
+                           "false/pp"}
     assert bodies["newJointPos/pp"] == "newData(manipulatorCommand/ib.msg.jointPosSetpoint)"
     assert [e.predicates for e in cs.exclusions] == [("newJointPos/pp", "newOperationalPos/pp")]
 

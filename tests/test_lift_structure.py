@@ -45,8 +45,10 @@ def _cell_model(tmp_path: Path, robots: int, stereotypes: bool = True) -> Path:
 
     arm.connector("cs,drive/ve", End.at(port(arm_cs, "command/ob"), cs), End.at(port(drive_ve, "command/ib"), ve))
     arm.connector("drive/ve,cs", End.at(port(drive_ve, "state/ob"), ve), End.at(port(arm_cs, "state/ib"), cs))
-    arm.connector("drive/ve,motor/re", End.at(port(drive_ve, "current/ob"), ve), End.at(port(motor_re, "current/ib"), re))
-    arm.connector("motor/re,drive/ve", End.at(port(motor_re, "encoder/ob"), re), End.at(port(drive_ve, "encoder/ib"), ve))
+    arm.connector("drive/ve,motor/re", End.at(port(drive_ve, "current/ob"), ve),
+                  End.at(port(motor_re, "current/ib"), re))
+    arm.connector("motor/re,drive/ve", End.at(port(motor_re, "encoder/ob"), re),
+                  End.at(port(drive_ve, "encoder/ib"), ve))
     arm_part = robot.part("arm/a", arm)
     plan = pkg.block("Planner", "Agent")
     plan_cs_part = plan.part("cs", plan_cs)
@@ -72,7 +74,7 @@ def test_agents_of_replicated_robots_are_told_apart_by_their_robot(tmp_path: Pat
 def test_an_inter_agent_link_fans_out_to_every_replicated_robot(tmp_path: Path) -> None:
     model = load(_cell_model(tmp_path, robots=2)).model
     (system,) = model.systems
-    targets = sorted(l.target for l in system.links if l.source.startswith("plan/a"))
+    targets = sorted(link.target for link in system.links if link.source.startswith("plan/a"))
     assert targets == ["cell1/r.arm/a.cs.goal/ib", "cell2/r.arm/a.cs.goal/ib"]
 
 

@@ -140,7 +140,8 @@ def test_sarif_is_deterministic_and_fingerprints_survive_moved_lines(tmp_path: P
     moved = earl("check", "--format", "sarif", "broken.uml", cwd=tmp_path).stdout
 
     def prints(text: str) -> list[tuple[int, str]]:
-        return [(r["locations"][0]["physicalLocation"]["region"]["startLine"], r["partialFingerprints"]["earlFinding/v1"])
+        return [(r["locations"][0]["physicalLocation"]["region"]["startLine"],
+                 r["partialFingerprints"]["earlFinding/v1"])
                 for r in json.loads(text)["runs"][0]["results"] if r["ruleId"] != "R002"]  # R002 quotes a line
 
     assert [p for _, p in prints(first)] == [p for _, p in prints(moved)]

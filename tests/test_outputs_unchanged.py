@@ -102,7 +102,7 @@ def outputs_of(model_file: Path, out: Path, png: bool) -> Outputs:
         return outputs
     _verify(loaded, outputs)
     for target in GEN_TARGETS + (("diagrams-png",) if png else ()):
-        _attempt(f"gen-{target}", outputs, lambda: _gen(loaded, target, out / target))
+        _attempt(f"gen-{target}", outputs, lambda target=target: _gen(loaded, target, out / target))
     findings = check_loaded(loaded, CheckOptions())
     _attempt("report", outputs, lambda: _report(loaded, findings))
     return outputs

@@ -543,7 +543,7 @@ def test_cameo_profile_uri_is_an_earl_namespace(generated: dict[str, tuple[str, 
     for application in (el for el in model if etree.QName(el).namespace == uri):
         name = etree.QName(application).localname
         assert name in uml.stereotypes and not uml.stereotypes[name].abstract
-        assert set(a for a in application.attrib if a.startswith("base_")) <= set(uml.effective_bases(name))
+        assert {a for a in application.attrib if a.startswith("base_")} <= set(uml.effective_bases(name))
     # Cameo types base_Class by the OMG UML metamodel
     base = uml.stereotypes["Agent"].element.find("ownedAttribute[@name='base_Class']/type")
     assert base is not None and base.get("href") == "http://www.omg.org/spec/UML/20131001/UML.xmi#Class"

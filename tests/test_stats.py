@@ -97,7 +97,8 @@ def lxml_counts(path: Path) -> dict[str, int]:
         return "Model" if el is model else IMPLICIT.get(str(el.tag), "")
 
     types = Counter(uml_type(el) for el in definitions.values())
-    applications = [el for el in root if isinstance(el.tag, str) and el is not model and el.tag != f"{{{XMI}}}Documentation"]
+    applications = [el for el in root
+                    if isinstance(el.tag, str) and el is not model and el.tag != f"{{{XMI}}}Documentation"]
 
     def sysml(name: str, base: str, metaclasses: set[str]) -> int:
         return sum(
@@ -110,7 +111,8 @@ def lxml_counts(path: Path) -> dict[str, int]:
         "elements": len(definitions),
         "blocks": sysml("block", "base_Class", {"Class", "AssociationClass"}),
         "parts": sum(1 for el in definitions.values()
-                     if el.tag == "ownedAttribute" and uml_type(el) == "Property" and el.get("aggregation") == "composite"),
+                     if el.tag == "ownedAttribute" and uml_type(el) == "Property"
+                     and el.get("aggregation") == "composite"),
         "ports": types["Port"],
         "connectors": types["Connector"],
         "state_machines": types["StateMachine"],

@@ -125,7 +125,8 @@ def test_each_construct_outside_the_subset_is_one_warning_with_its_column(tmp_pa
 
 def test_a_construct_of_the_subset_in_a_form_it_does_not_read_is_named_as_such(tmp_path: Path) -> None:
     path = tmp_path / "malformed.sysml"
-    path.write_text("package P {\n    part def A {\n        part b : ;\n        part c : A;\n    }\n}\n", encoding="utf-8")
+    path.write_text("package P {\n    part def A {\n        part b : ;\n        part c : A;\n    }\n}\n",
+                    encoding="utf-8")
     loaded = load(path)
     assert [(d.code, d.location.line, d.location.column, d.element) for d in loaded.diagnostics] == [
         ("R007", 3, 9, "part")]

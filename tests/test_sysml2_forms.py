@@ -40,7 +40,7 @@ def test_the_other_forms_of_the_subset_lift_as_documented() -> None:
     assert probe.fsm is not None and probe.fsm.initial == "run"
     assert gauge.fsm is not None and gauge.fsm.initial == "run"
     assert [b.stages for b in probe.behaviours] == [(("sample/pf",),)]
-    assert [(l.source, l.target) for l in agent.links] == [
+    assert [(link.source, link.target) for link in agent.links] == [
         ("level/a.probe/rr.raw/ob", "level/a.gauge/vr.raw/ib"), ("level/a.gauge/vr.level/ob", "level/a.cs.level/ib")]
     # the comment on the probe's link suppresses its C008; the other link has no name either
     lines = FORMS.read_text(encoding="utf-8").splitlines()

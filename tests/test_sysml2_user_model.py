@@ -23,7 +23,7 @@ def test_the_thermostat_has_the_declared_structure() -> None:
     assert (agent.name, agent.declared_type, agent.computed_type) == ("thermostat/a", "CE", "CE")
     assert [(s.name, s.kind, s.block) for s in agent.subsystems] == [
         ("cs", "cs", "ThermostatControl"), ("heaterDriver/ve", "ve", "HeaterDriver"), ("heater/re", "re", "Heater")]
-    assert [(l.name, l.source, l.target) for l in agent.links] == [
+    assert [(link.name, link.source, link.target) for link in agent.links] == [
         ("cs,heaterDriver/ve", "thermostat/a.cs.heaterCommand/ob", "thermostat/a.heaterDriver/ve.command/ib"),
         ("heaterDriver/ve,heater/re", "thermostat/a.heaterDriver/ve.power/ob", "thermostat/a.heater/re.power/ib"),
     ]
@@ -40,5 +40,6 @@ def test_the_thermostat_has_the_declared_structure() -> None:
         ("tooCold/pp", "temperature/mi.data < 19.5")]
     command = cs.function("command/pf")
     assert command is not None and command.language == "C++"
-    assert command.reads == ("thermostat/a.cs.temperature/m",) and command.writes == ("thermostat/a.cs.heaterCommand/ob",)
+    assert command.reads == ("thermostat/a.cs.temperature/m",)
+    assert command.writes == ("thermostat/a.cs.heaterCommand/ob",)
 

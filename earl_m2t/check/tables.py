@@ -25,7 +25,8 @@ class LinkTableError(ValueError):
     """A permitted-link table of the wrong shape; the message names the offending key."""
 
 
-def parse_link_table(data: Mapping[str, object], base: LinkTable | None = None) -> dict[str, frozenset[tuple[str, str]]]:
+def parse_link_table(data: Mapping[str, object],
+                     base: LinkTable | None = None) -> dict[str, frozenset[tuple[str, str]]]:
     """Validate a table ``{scope: [[source kind, destination kind], …]}``; a scope left out keeps ``base``'s."""
     table = dict(base or {})
     for scope, pairs in data.items():

@@ -23,12 +23,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("verify", help="model-check the whole system with SPIN: reachability, deadlock, LTL")
     parser.add_argument("model", metavar="MODEL")
     parser.add_argument("--format", choices=OUTPUT_FORMATS, default="text")
-    parser.add_argument("--depth", type=int, default=100_000, metavar="N", help="the search depth bound (default 100000)")
-    parser.add_argument("--timeout", type=float, default=120.0, metavar="S", help="seconds for the whole run (default 120)")
+    parser.add_argument("--depth", type=int, default=100_000, metavar="N",
+                        help="the search depth bound (default 100000)")
+    parser.add_argument("--timeout", type=float, default=120.0, metavar="S",
+                        help="seconds for the whole run (default 120)")
     parser.add_argument("--ltl", action="append", default=[], metavar="FORMULA",
                         help="an LTL property over agent/subsystem@state and agent/subsystem.name/pp (a primitive "
-                             "predicate's value in the subsystem's latest iteration), e.g. '[] (manip/a.cs@emergencyStop "
-                             "-> [] manip/a.cs@emergencyStop)' (repeatable; the model's own properties are checked too)")
+                             "predicate's value in the subsystem's latest iteration), e.g. "
+                             "'[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)' "
+                             "(repeatable; the model's own properties are checked too)")
     add_dialect_option(parser)
     add_profile_files_option(parser)
     parser.set_defaults(run=run)

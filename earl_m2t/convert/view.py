@@ -186,7 +186,7 @@ class _View:
 
     def links(self, links: tuple[Link, ...], ends: dict[str, str], concept: str) -> list[str]:
         lines = []
-        for _, group in _grouped(links, lambda l: (l.template, l.location.line)):
+        for _, group in _grouped(links, lambda link: (link.template, link.location.line)):
             link = group[0]
             first, second = (ends.get(e, quoted(e)) for e in link.ends)
             name = f" {quoted(link.template)}" if link.template else ""
@@ -217,8 +217,9 @@ class _View:
             head = f"metadata {quoted(exclusion.name)} : Exclusive" if exclusion.name else "@Exclusive"
             lines.append(f"{head} about {about};")
         for buffer_group in subsystem.buffer_groups:
-            lines.append(f"metadata {quoted(buffer_group.name)} : Group {{ obligatory = {_string(buffer_group.obligatory)}; "
-                         f"optional = {_string(buffer_group.optional)}; }}")
+            obligatory, optional = _string(buffer_group.obligatory), _string(buffer_group.optional)
+            lines.append(f"metadata {quoted(buffer_group.name)} : Group {{ obligatory = {obligatory}; "
+                         f"optional = {optional}; }}")
         for predicate in subsystem.predicates:
             lines.extend(self.predicate(predicate.name, predicate.language, predicate.body, predicate.fun))
         for function in subsystem.functions:
@@ -313,10 +314,12 @@ class _View:
         written = expression(condition.text) if condition.language == PREDICATE_LANGUAGE else None
         if written is not None:
             return [f"constraint {role} {{ {written} }}"]
-        return [f"constraint {role} {{"] + ["    " + l for l in _representation(condition.language, condition.text)] + ["}"]
+        body = _representation(condition.language, condition.text)
+        return [f"constraint {role} {{"] + ["    " + line for line in body] + ["}"]
 
     def transition(self, name: str, source: str, target: str, condition: Condition | None, priority: int) -> list[str]:
-        written = expression(condition.text) if condition is not None and condition.language == PREDICATE_LANGUAGE else None
+        predicate = condition is not None and condition.language == PREDICATE_LANGUAGE
+        written = expression(condition.text) if predicate and condition is not None else None
         guard = f" if {written}" if written is not None else ""
         body: list[str] = []
         if condition is not None and written is None:

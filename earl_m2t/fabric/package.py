@@ -138,7 +138,7 @@ def _fail(element: etree._Element, file: str, message: str) -> ModelReadError:
 
 
 def _one(root: etree._Element, name: str, file: str) -> etree._Element:
-    found = [e for e in root.iter(name)]
+    found = list(root.iter(name))
     if len(found) != 1:
         raise _fail(found[1] if found else root, file,
                     f"FABRIC wants exactly one <{name}> in <subsystem_definition>, there are {len(found)}")

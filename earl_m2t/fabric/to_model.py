@@ -116,10 +116,10 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
     built: list[Agent] = []
     built_paths: list[str] = []
     for agent_name, subsystems in agents.items():
-        own = tuple(l for l in links if l.scope == "agent" and l.owner == agent_name)
+        own = tuple(link for link in links if link.scope == "agent" and link.owner == agent_name)
         kinds = {s.kind for s in subsystems}
-        linked = any(l.scope == "system" and agent_name in (l.ends[0].split(".")[0], l.ends[1].split(".")[0])
-                     for l in links)
+        linked = any(link.scope == "system" and agent_name in (link.ends[0].split(".")[0], link.ends[1].split(".")[0])
+                     for link in links)
         built_paths.append(agent_name)
         built.append(Agent(name=agent_name, path=agent_name, block=f"{agent_name}_agent", robot=f"{name}_robot",
                            subsystems=tuple(subsystems), links=own, declared_type="",
@@ -129,7 +129,8 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
     robot = Robot(name=f"{name}_robot", path=f"{name}_robot", block=f"{name}_robot", agents=tuple(built_paths),
                   location=first, recognised_by="stereotype")
     system = System(name=f"{name}_system", path=f"{name}_system", robots=(robot,), agents=tuple(built),
-                    links=tuple(l for l in links if l.scope == "system"), location=first, recognised_by="stereotype")
+                    links=tuple(link for link in links if link.scope == "system"), location=first,
+                    recognised_by="stereotype")
     return EarlModel(file=first.file, dialect=DIALECT, name=name, systems=(system,), datatypes=datatypes), notes
 
 
@@ -210,7 +211,8 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
             transitions.append(Transition(
                 name=name, path=f"{fsm_path}.{name}", source=s.name, target=target, source_foreign=False,
                 target_foreign=False,
-                condition=condition(text, where, f"{fsm_path}.{name}", ConditionRole.IC, f"state '{s.name}' next_state '{target}'"),
+                condition=condition(text, where, f"{fsm_path}.{name}", ConditionRole.IC,
+                                    f"state '{s.name}' next_state '{target}'"),
                 priority=0, order=len(transitions), location=_location(where)))
     fsm = Fsm(name="fsm", path=fsm_path, states=states, transitions=tuple(transitions),
               initial_states=(package.initial,), location=_location(package.where))

@@ -100,7 +100,8 @@ class BehaviourLifter:
             name = self.raw.name(beh)
             bodies = self.raw.opaque_bodies(beh)
             language, body = bodies[0] if bodies else ("", "")
-            accesses = tuple(self._access(p) for p in self.raw.children(beh, "ownedParameter") if p.get("direction") != "return")
+            accesses = tuple(self._access(p) for p in self.raw.children(beh, "ownedParameter")
+                             if p.get("direction") != "return")
             result.append(
                 PartialFunction(name, f"{self.ctx.path}.{name}", accesses, language, body,
                                 self.raw.location(beh), self.ctx.recogniser.recognise(beh).route)
@@ -174,7 +175,8 @@ class BehaviourLifter:
             concept = self.ctx.recogniser.recognise(rule).concept
             names: list[str] = []
             if concept == "Exclusion":
-                names = [self.raw.name(t) for t in self.raw.refs(rule, "constrainedElement") if not isinstance(t, ExternalRef)]
+                names = [self.raw.name(t) for t in self.raw.refs(rule, "constrainedElement")
+                         if not isinstance(t, ExternalRef)]
             if not names:
                 cond = condition_of(self.raw, rule, self.ctx.path, ConditionRole.EXCLUSION)
                 names = parse_exclusive(cond.text) if cond is not None else []
@@ -306,7 +308,7 @@ class BehaviourLifter:
         """Split the pf calls of a tf activity into stages: an action's stage is its depth in the flow."""
         raw = self.raw
         problems: list[ActivityProblem] = []
-        nodes = [n for n in raw.children(activity, "node")]
+        nodes = list(raw.children(activity, "node"))
         if not nodes:
             return (), problems
         successors: dict[int, list[int]] = {id(n): [] for n in nodes}
@@ -334,17 +336,20 @@ class BehaviourLifter:
         forks = sum(1 for k in kinds.values() if k == "ForkNode")
         joins = sum(1 for k in kinds.values() if k == "JoinNode")
         if forks != joins:
-            problems.append(ActivityProblem(f"unbalanced fork/join ({forks} fork, {joins} join)", raw.location(activity)))
+            problems.append(ActivityProblem(f"unbalanced fork/join ({forks} fork, {joins} join)",
+                                            raw.location(activity)))
         actions: dict[int, str] = {}
         for node in nodes:
             if kinds[id(node)] not in ACTION_TYPES:
                 if kinds[id(node)] not in CONTROL_NODES:
-                    problems.append(ActivityProblem(f"unsupported activity node {kinds[id(node)] or node.tag}", raw.location(node)))
+                    problems.append(ActivityProblem(f"unsupported activity node {kinds[id(node)] or node.tag}",
+                                                    raw.location(node)))
                 continue
             pf = self._called_function(node)
             if pf is None:
                 problems.append(ActivityProblem(
-                    f"action '{raw.name(node)}' calls no partial transition function of this subsystem", raw.location(node)))
+                    f"action '{raw.name(node)}' calls no partial transition function of this subsystem",
+                    raw.location(node)))
                 continue
             actions[id(node)] = pf
         # longest path in pf calls (Kahn's order): an action's depth is its stage
@@ -366,12 +371,14 @@ class BehaviourLifter:
             return (), problems
         initials = [n for n, k in kinds.items() if k == "InitialNode"]
         if actions and len(initials) != 1:
-            problems.append(ActivityProblem(f"expected one initial node, found {len(initials)}", raw.location(activity)))
+            problems.append(ActivityProblem(f"expected one initial node, found {len(initials)}",
+                                            raw.location(activity)))
         elif initials:
             reachable = _reachable(initials[0], successors)
             for node in nodes:
                 if id(node) in actions and id(node) not in reachable:
-                    problems.append(ActivityProblem(f"action '{raw.name(node)}' is not reachable from the initial node", raw.location(node)))
+                    problems.append(ActivityProblem(
+                        f"action '{raw.name(node)}' is not reachable from the initial node", raw.location(node)))
         by_stage: dict[int, list[str]] = {}
         for node in nodes:  # model order inside a stage
             if id(node) in actions:

@@ -141,7 +141,8 @@ class ConditionLifter:
         found = ReferenceChecker(scope, self.datatypes).problems(expr)
         return expr, expanded, tuple((ProblemKind.REFERENCE, message, line, column) for message, line, column in found)
 
-    def resolve_predicates(self, predicates: Iterable[PrimitivePredicate], scope: Scope) -> tuple[PrimitivePredicate, ...]:
+    def resolve_predicates(self, predicates: Iterable[PrimitivePredicate],
+                           scope: Scope) -> tuple[PrimitivePredicate, ...]:
         return tuple(pp if pp.fun is None else PrimitivePredicate(pp.name, pp.path, self.resolve(pp.fun, scope),
                                                                   pp.language, pp.body, pp.location, pp.recognised_by)
                      for pp in predicates)

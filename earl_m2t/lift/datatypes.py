@@ -82,9 +82,11 @@ class DataTypeLifter:
             self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.PRIMITIVE, kind, location=location)
         elif uml_type == "Enumeration":
             literals = tuple(raw.name(lit) for lit in raw.children(el, "ownedLiteral"))
-            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.ENUMERATION, literals=literals, location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.ENUMERATION, literals=literals,
+                                                 location=location)
         elif uml_type in _STRUCT_TYPES and primitive_kind(name) and not raw.children(el, "ownedAttribute"):
-            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.PRIMITIVE, primitive_kind(name), location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.PRIMITIVE, primitive_kind(name),
+                                                 location=location)
         else:
             fields = []
             for attr in raw.children(el, "ownedAttribute"):
@@ -93,7 +95,8 @@ class DataTypeLifter:
                 type_key, unresolved = self.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
                 fields.append(Field(raw.name(attr), type_key, lower, upper, raw.location(attr), unresolved))
-            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.STRUCT, fields=tuple(fields), location=location)
+            self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.STRUCT, fields=tuple(fields),
+                                                 location=location)
         return qualified
 
     def _qualified_name(self, el: Element) -> str:

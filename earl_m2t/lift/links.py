@@ -128,7 +128,7 @@ class LinkLifter:
                        connector, f"{owner}.{name}")
             return []
         links = []
-        for k, (a, b) in enumerate(pairs, start=1):
+        for a, b in pairs:
             a_out, b_out = self._is_output(a), self._is_output(b)
             if a_out and not b_out:
                 source, target = a, b

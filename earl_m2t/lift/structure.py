@@ -149,8 +149,9 @@ class StructureLifter:
                             continue
                         agents.extend(found)
                         robot_agents.extend(inst.agent.path for inst in found)
+                    route = self.recogniser.recognise(part_type).route or "suffix"
                     robots.append(Robot(robot_part_name, robot_path, self.raw.name(part_type), tuple(robot_agents),
-                                        self.raw.location(part), self.recogniser.recognise(part_type).route or "suffix"))
+                                        self.raw.location(part), route))
             elif concept == "Agent":
                 agents.extend(self._agents(part, part_type, "", None))
             elif concept == "AgentGroup":
@@ -219,9 +220,10 @@ class StructureLifter:
         for group_part, group_block, held, members in group_parts:
             links.extend(self.links.agent_links(group_block, path, instances))
             member_paths = tuple(i.subsystem.path for i in instances if any(i.part is m for m in members))
-            groups.append(Group(self.raw.name(group_part), f"{path}.{self.raw.name(group_part)}", GroupKind.SUBSYSTEMS,
-                                self.raw.name(group_block), path, member_paths, tuple(held),
-                                self.raw.location(group_part), self.recogniser.recognise(group_block).route or "suffix"))
+            group_name = self.raw.name(group_part)
+            groups.append(Group(group_name, f"{path}.{group_name}", GroupKind.SUBSYSTEMS, self.raw.name(group_block), path,
+                                member_paths, tuple(held), self.raw.location(group_part),
+                                self.recogniser.recognise(group_block).route or "suffix"))
         tags = self.recogniser.tags(block)
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()
         agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
@@ -229,7 +231,8 @@ class StructureLifter:
                       tuple(groups))
         return AgentInstance(agent, part, robot_part, instances)
 
-    def _subsystem_group(self, block: Element, path: str) -> tuple[list[GroupMember], list[tuple[Element, Element, str, str]]]:
+    def _subsystem_group(self, block: Element,
+                         path: str) -> tuple[list[GroupMember], list[tuple[Element, Element, str, str]]]:
         """The parts of a Subsystem Group's block, and those it contributes to its Agent: Virtual
         and Real Effectors and Receptors (a Control Subsystem belongs in the Agent itself, S011)."""
         held: list[GroupMember] = []
@@ -261,7 +264,8 @@ class StructureLifter:
                 direction = Direction.IN if concept == "InputBuffer" else Direction.OUT
                 datatype, unresolved = self.types.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
-                receive, queue_size = receive_of(raw, self.recogniser.tags(attr)) if direction is Direction.IN else (ReceiveMode.LATEST, 0)
+                receive, queue_size = (receive_of(raw, self.recogniser.tags(attr)) if direction is Direction.IN
+                                       else (ReceiveMode.LATEST, 0))
                 buffers = [
                     Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
                            recognition.route, unresolved, receive, queue_size)
@@ -276,7 +280,8 @@ class StructureLifter:
                 datatype, unresolved = self.types.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
                 memory.extend(
-                    Memory(inst, f"{path}.{inst}", datatype, attr_name, k, raw.location(attr), recognition.route, unresolved)
+                    Memory(inst, f"{path}.{inst}", datatype, attr_name, k, raw.location(attr), recognition.route,
+                           unresolved)
                     for inst, k in expand(attr_name, instance_count(lower, upper))
                 )
         ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory))

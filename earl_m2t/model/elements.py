@@ -389,8 +389,8 @@ class EarlModel:
 
     @property
     def links(self) -> tuple[Link, ...]:
-        return tuple(l for a in self.agents for l in a.links) + tuple(
-            l for s in self.systems for l in s.links
+        return tuple(link for a in self.agents for link in a.links) + tuple(
+            link for s in self.systems for link in s.links
         )
 
     @cached_property

@@ -63,7 +63,8 @@ def _group(group: Group, indent: str) -> str:
 
 def _subsystem(instances: list[Subsystem]) -> list[str]:
     sub = instances[0]
-    name = sub.name if len(instances) == 1 else f"{sub.template} ×{len(instances)} ({instances[0].name} … {instances[-1].name})"
+    name = (sub.name if len(instances) == 1
+            else f"{sub.template} ×{len(instances)} ({instances[0].name} … {instances[-1].name})")
     out = [f"    {sub.kind} {name} [{sub.block}]"]
     ind = "      "
     for buf in _unique_templates(sub.inputs):

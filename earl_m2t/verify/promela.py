@@ -194,8 +194,8 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
         sent = _sent(sub, state, tracked, senders)
         ready = "".join(f" && {t.variable} > 0" for t in waits)
         changes = " || ".join([f"{t.variable} > 0" for t in received] + [f"{t.variable} < {t.capacity}" for t in sent])
-        actions = [f"{t.variable} = ({t.variable} > 0 -> {t.variable} - 1 : 0)" if t.capacity > 1 else f"{t.variable} = 0"
-                   for t in received]
+        actions = [f"{t.variable} = ({t.variable} > 0 -> {t.variable} - 1 : 0)" if t.capacity > 1
+                   else f"{t.variable} = 0" for t in received]
         actions += [f"{t.variable} = ({t.variable} < {t.capacity} -> {t.variable} + 1 : {t.capacity})" for t in sent]
         for k, outcome in enumerate(so.outcomes):
             target = index.get(outcome.transition.target, i) if outcome.transition else i

@@ -61,8 +61,8 @@ def render_json(model_name: str, result: VerifyResult) -> str:
 def render_sarif(model_name: str, result: VerifyResult) -> str:
     results = []
     for finding in result.findings:
-        loc = {"physicalLocation": {"artifactLocation": {"uri": finding.location.file},
-                                    **({"region": {"startLine": finding.location.line}} if finding.location.line else {})}}
+        region = {"region": {"startLine": finding.location.line}} if finding.location.line else {}
+        loc = {"physicalLocation": {"artifactLocation": {"uri": finding.location.file}, **region}}
         entry: dict[str, Any] = {"ruleId": finding.code, "level": "error",
                                  "message": {"text": f"{finding.element}: {finding.message}"}, "locations": [loc]}
         if finding.trace:

@@ -99,7 +99,8 @@ def _bounded(run: spin.PanRun, options: VerifyOptions) -> str:
     return f"the search stopped at {bound} after {run.states} states, {run.transitions} transitions"
 
 
-def _reachability(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
+def _reachability(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float],
+                  result: VerifyResult) -> None:
     binary = spin.build(folder, spec.text, "pan_reach", ("-DSAFETY", f"-DMEMLIM={MEMORY_MB}"), left())
     run = spin.search(binary, ("-A", "-E", *_pan_flags(options)), left())
     _account(run, result)
@@ -135,7 +136,8 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
                          "(exhaustive search)")
 
 
-def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float], result: VerifyResult) -> None:
+def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: Callable[[], float],
+              result: VerifyResult) -> None:
     if not spec.waits:
         result.proven.append("no deadlock: no state waits for an obligatory input without a timeout")
         return

@@ -59,7 +59,7 @@ def test_affected_files_are_what_gen_then_does(tmp_path: Path, edit: str, target
     assert listed.get("rewrites", set()) | listed.get("generates", set()) == done.get("wrote", set()) - {TRACE_FILE}
     assert listed.get("adds", set()) == done.get("created", set())
     assert listed.get("orphans", set()) <= done.get("orphaned", set())
-    assert listed.get("drops", set()) <= done.get("unchanged", set()) | {p for p in snapshot(out)}
+    assert listed.get("drops", set()) <= done.get("unchanged", set()) | set(snapshot(out))
 
 
 def test_removed_subsystem_lists_dropped_files_and_the_orphaned_user_file(tmp_path: Path) -> None:

@@ -78,7 +78,8 @@ def added_link(text: str) -> str:
     match = LINK.search(text)
     assert match
     copy = (match.group(0).replace("_fW4SsBaHelMyrFWnRP6xWA", "_commandCopyLink00000000")
-            .replace("_VMYupY3KM6MxwKkK-dbotw", "_commandCopyEnd1").replace("_7BTMmFBR4aOowAUNqQvU4A", "_commandCopyEnd2")
+            .replace("_VMYupY3KM6MxwKkK-dbotw", "_commandCopyEnd1")
+            .replace("_7BTMmFBR4aOowAUNqQvU4A", "_commandCopyEnd2")
             .replace('name="cs,fingerController/ve"', 'name="commandCopy"'))
     return text[:match.end()] + copy + text[match.end():]
 

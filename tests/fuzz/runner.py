@@ -282,7 +282,7 @@ class Campaign:
                     print(f"{len(results)} inputs, {rate:.1f}/s; so far:\n{summary(results)}", file=sys.stderr,
                           flush=True)
         finally:
-            for process, connection, _, _, _ in workers.values():
+            for process, _, _, _, _ in workers.values():
                 process.kill()
                 process.join()
             shutil.rmtree(scratch, ignore_errors=True)

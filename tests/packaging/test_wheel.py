@@ -19,7 +19,8 @@ SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 def installed_wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
     work = tmp_path_factory.mktemp("wheel")
     subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(work / "dist"), str(ROOT)],
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(work / "dist"),
+         str(ROOT)],
         check=True,
     )
     wheels = list((work / "dist").glob("earl_m2t-*.whl"))
@@ -67,7 +68,8 @@ def test_the_installed_wheel_carries_the_bytecode_of_every_module(installed_whee
              "root = pathlib.Path(earl_m2t.__file__).parent; "
              "modules = sorted(root.rglob('*.py')); "
              "print(len(modules)); "
-             "print(*[m.relative_to(root) for m in modules if not os.path.isfile(importlib.util.cache_from_source(str(m)))])")
+             "print(*[m.relative_to(root) for m in modules "
+             "if not os.path.isfile(importlib.util.cache_from_source(str(m)))])")
     result = subprocess.run([str(python), "-c", probe], cwd=tmp_path, capture_output=True, text=True, check=True)
     count, missing = result.stdout.split("\n", 1)
     assert int(count) > 100

@@ -320,7 +320,7 @@ class Mini:
         ``subsystems``; then ``peer/a`` and the two inter-agent links."""
         cs = self.subsystem("TaskControl", "cs", ("status", *ins), ("command", *outs))
         task = self.agent("task/a", "TaskAgent", {"cs": cs, **(subsystems or {})})
-        peer = self.agent("peer/a", "PeerAgent", {"cs": self.subsystem("PeerControl", "cs", ("command",), ("status",))})
+        self.agent("peer/a", "PeerAgent", {"cs": self.subsystem("PeerControl", "cs", ("command",), ("status",))})
         for source, target, message in (("task/a", "peer/a", "command"), ("peer/a", "task/a", "status")):
             src, dst = self.agents[source], self.agents[target]
             self.system.connector(

@@ -23,7 +23,8 @@ VARIANTS: dict[str, tuple[list[tuple[str, str]], str, str]] = {
                f"first idle if {EXCLUSIVE}")],
              "manip/a.cs.fsm.operationalMove", "never entered"),
     "V002": ([("firstTimeout = 0.1; nextTimeout = 0.02; ", ""),
-              ("connect 'task/a'.cs.'manipulatorCommand/ob' to 'pickAndPlace/r'.'manip/a'.cs.'manipulatorCommand/ib';", "")],
+              ("connect 'task/a'.cs.'manipulatorCommand/ob' to "
+               "'pickAndPlace/r'.'manip/a'.cs.'manipulatorCommand/ib';", "")],
              "manip/a.cs", "waits for manipulatorCommand/ib"),
     "V003": ([("constraint tc { 'motionFinished/pp'() or 'emergencyStop/pp'() }",
                f"constraint tc {{ {EXCLUSIVE} }}")],

@@ -475,7 +475,8 @@ class Block(Element):
         rule.stereotype("LtlProperty")
         return rule
 
-    def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:
+    def buffer_group(self, name: str, obligatory: Sequence[Property] = (),
+                     optional: Sequence[Property] = ()) -> Constraint:
         """A «BufferGroup» constraint whose tags name the obligatory and optional Input Buffers."""
         rule = Constraint(self.builder, self, name, None)
         self.rules.append(rule)

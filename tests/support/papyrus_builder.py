@@ -202,7 +202,7 @@ class Multiplicity:
         return self.upper == self.lower
 
 
-MultiplicitySpec = Union[None, int, str, tuple[int, int | None], Multiplicity]
+MultiplicitySpec = None | int | str | tuple[int, int | None] | Multiplicity
 
 
 # ---- XML writing ---------------------------------------------------------------------
@@ -818,7 +818,8 @@ class Block(Element):
         rule.stereotype("LtlProperty")
         return rule
 
-    def buffer_group(self, name: str, obligatory: Sequence[Property] = (), optional: Sequence[Property] = ()) -> Constraint:
+    def buffer_group(self, name: str, obligatory: Sequence[Property] = (),
+                     optional: Sequence[Property] = ()) -> Constraint:
         """A «BufferGroup» constraint: the Input Buffers an iteration waits for and those it reads
         when new (tags holding the buffer names)."""
         tags = {"obligatory": " ".join(p.name or "" for p in obligatory),
@@ -1202,7 +1203,8 @@ class ModelBuilder:
         i = self._application_index.get((element.id, "EARL", stereotype))
         if i is not None:  # applied: add the tags
             app = self._applications[i]
-            added = tuple((k, ("true" if v else "false") if isinstance(v, bool) else str(v)) for k, v in (tags or {}).items())
+            added = tuple((k, ("true" if v else "false") if isinstance(v, bool) else str(v))
+                          for k, v in (tags or {}).items())
             self._applications[i] = replace(app, tags=(*app.tags, *added))
             return
         self._apply(element, "EARL", stereotype, f"base_{EARL_STEREOTYPES[stereotype]}", tags)

@@ -99,7 +99,8 @@ def test_ros_lines(generated: dict[str, Path], model: EarlModel) -> None:
 def test_orocos_lines(generated: dict[str, Path], model: EarlModel) -> None:
     out = generated["orocos"]
     fabric = "fabric/manip_a_cs/spec/subsystem.xml"
-    assert_traced(out, fabric, '<next_state name="operationalMove" init_cond="newOperationalPos and not emergencyStop and',
+    assert_traced(out, fabric,
+                  '<next_state name="operationalMove" init_cond="newOperationalPos and not emergencyStop and',
                   "manip/a.cs.fsm.idle,operationalMove/t", model)
     assert_traced(out, fabric, '<state name="jointMove">', "manip/a.cs.fsm.jointMove", model)
     assert_traced(out, fabric, '<buffer_group name="commands">', "manip/a.cs.commands", model)

@@ -144,7 +144,8 @@ def test_comparisons_of_one_field_are_related() -> None:
     model, sub = build({}, states, [("run", "other", "in/ib.msg.n > 1 ∧ in/ib.msg.n < 2", 0)])
     assert _gaps(model, sub)["run"] == "TRUE"  # the guard never holds
     # a constant on the left is the same comparison
-    model, sub = build({}, states, [("run", "other", "0.5 <= in/ib.msg.v", 0), ("run", "other", "in/ib.msg.v < 0.5", 0)])
+    model, sub = build({}, states, [("run", "other", "0.5 <= in/ib.msg.v", 0),
+                                    ("run", "other", "in/ib.msg.v < 0.5", 0)])
     assert _gaps(model, sub)["run"] is None
 
 

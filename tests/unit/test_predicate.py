@@ -323,7 +323,8 @@ def test_a_replicated_conjunction_has_both_forms_too(text: str) -> None:
 
 def test_the_ellipsis_form_is_one_operand_of_a_bigger_chain() -> None:
     table_5 = TABLE_5["emergencyStop/pp"][0]
-    quantified = "manipulatorCommand/ib.msg.emergencyStopCommand ∨ (any K: motorControllerStateK/ib.msg.emergencyStopCommand)"
+    quantified = ("manipulatorCommand/ib.msg.emergencyStopCommand ∨ "
+                  "(any K: motorControllerStateK/ib.msg.emergencyStopCommand)")
     assert parse_predicate(table_5) == parse_predicate(quantified) == Or((MANIP_ESTOP, REPLICATED_ESTOP))
     assert parse_predicate("a1 ∨ … ∨ aN ∨ b") == Or((Replicated("or", P("aK")), P("b")))
     assert parse_predicate("x ∧ a1 ∧ … ∧ aN ∧ y") == And((P("x"), Replicated("and", P("aK")), P("y")))

@@ -73,7 +73,8 @@ def test_every_concept_of_the_metamodel_is_present_with_its_abbreviation_and_met
 
 
 def test_the_abbreviations_of_the_metamodel_all_name_a_concept(profile: Profile) -> None:
-    abbreviations = ["cs", "ve", "re", "vr", "rr", "ib", "ob", "m", "bb", "pf", "pp", "t", "a", "r", "aa", "fsm", "s", "tf"]
+    abbreviations = ["cs", "ve", "re", "vr", "rr", "ib", "ob", "m", "bb", "pf", "pp", "t", "a", "r", "aa", "fsm", "s",
+                     "tf"]
     found = {abbr: profile.by_abbreviation(abbr) for abbr in abbreviations}
     assert all(isinstance(concept, Concept) for concept in found.values()), found
     assert found["t"].name == "FsmTransition"

@@ -310,7 +310,8 @@ def test_older_eclipse_uml2_generations_are_papyrus(tmp_path: Path) -> None:
 
 
 def test_a_magicdraw_file_without_documentation_is_known_by_its_extension_extender(tmp_path: Path) -> None:
-    text = CAMEO.split("\t<xmi:Documentation>")[0] + "\t<xmi:Extension" + CAMEO.split("</xmi:Documentation>\n\t<xmi:Extension")[1]
+    text = (CAMEO.split("\t<xmi:Documentation>")[0] + "\t<xmi:Extension"
+            + CAMEO.split("</xmi:Documentation>\n\t<xmi:Extension")[1])
     assert load_raw_model(write(tmp_path, text)).dialect == "cameo"
 
 
@@ -351,7 +352,8 @@ def test_an_mdzip_is_read_from_its_model_member_and_locations_name_the_member(tm
     assert raw.dialect == "cameo"
     location = raw.location(raw.by_id["_c1"])
     assert location.file == f"{path}!{MODEL_MEMBER}"
-    assert location.line == CAMEO.splitlines().index(next(l for l in CAMEO.splitlines() if "'_c1' name=" in l)) + 1
+    lines = CAMEO.splitlines()
+    assert location.line == lines.index(next(line for line in lines if "'_c1' name=" in line)) + 1
     assert list(tmp_path.iterdir()) == [path]  # nothing extracted
 
 

@@ -209,15 +209,15 @@ def test_two_files_that_reference_each_other_are_read_once_each(tmp_path: Path,
     </packagedElement>
     <packagedElement xmi:type="uml:DataType" xmi:id="_vec" name="Vector"/>
 """))
-    write(tmp_path / "b.uml", papyrus("""\
+    write(tmp_path / "b.uml", papyrus(f"""\
     <packagedElement xmi:type="uml:Class" xmi:id="_b" name="B">
       <ownedAttribute xmi:id="_toA" name="a"><type xmi:type="uml:Class" href="a.uml#_a"/></ownedAttribute>
       <ownedAttribute xmi:id="_v" name="v"><type xmi:type="uml:DataType" href="./a.uml#_vec"/></ownedAttribute>
       <ownedAttribute xmi:id="_w" name="w">
-        <type xmi:type="uml:DataType" href="../%s/b.uml#_b"/>
+        <type xmi:type="uml:DataType" href="../{tmp_path.name}/b.uml#_b"/>
       </ownedAttribute>
     </packagedElement>
-""" % tmp_path.name))
+"""))
     reads: list[str] = []
     original = resources.read_raw_model
 

@@ -78,7 +78,8 @@ def test_references_resolve_in_all_four_encodings(raw) -> None:
 
 
 def test_stereotype_applications_are_indexed_by_the_extended_element(raw) -> None:
-    applied = {(a.name, raw.table.is_earl(a.profile_uri), raw.table.is_sysml(a.profile_uri)) for a in raw.applied(raw.by_id["A"])}
+    applied = {(a.name, raw.table.is_earl(a.profile_uri), raw.table.is_sysml(a.profile_uri))
+               for a in raw.applied(raw.by_id["A"])}
     assert applied == {("Block", False, True), ("Agent", True, False)}
     (agent,) = [a for a in raw.applied(raw.by_id["A"]) if a.name == "Agent"]
     assert agent.tags == {"declaredType": "CT"}

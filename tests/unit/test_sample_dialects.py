@@ -284,7 +284,8 @@ def test_the_shared_counts_are_those_of_the_paper_sample(samples: dict[str, Samp
         "System": 1, "Robot": 1, "Agent": 3, "ControlSubsystem": 3, "VirtualEffector": 2, "RealEffector": 2,
         "InputBuffer": 12, "OutputBuffer": 12, "InternalMemory": 11, "InterSubsystemLink": 8, "InterAgentLink": 4,
         "FSM": 7, "FsmState": 11, "FsmTransition": 10, "BasicBehaviour": 11, "PartialTransitionFunction": 14,
-        "PrimitivePredicate": 6, "Predicate": 10 + 2 * 11, "Exclusion": 1, "BufferGroup": 1,  # Predicate: the guards, tc and ec
+        # Predicate: the guards, tc and ec
+        "PrimitivePredicate": 6, "Predicate": 10 + 2 * 11, "Exclusion": 1, "BufferGroup": 1,
             "LtlProperty": 1,  # the emergency-stop property verify proves
     }  # fmt: skip
 
@@ -395,7 +396,8 @@ def test_the_ea_file_numbers_transitions_and_connectors_as_they_were_created(sam
 
     system = next(el for el in sample.typed("uml:Class") if el.get("name") == "PickAndPlaceSystem")
     links = list(system.iterchildren("ownedConnector"))
-    assert [link.get("name") for link in links] == ["manip/a,task/a", "grip/a,task/a", "task/a,manip/a", "task/a,grip/a"]
+    assert [link.get("name") for link in links] == [
+        "manip/a,task/a", "grip/a,task/a", "task/a,manip/a", "task/a,grip/a"]
     assert sorted(numbers(links)) != numbers(links)
     for region in (el for el in sample.content if el.tag == "region"):
         transitions = list(region.iterchildren("transition"))

@@ -30,8 +30,8 @@ def _variant(tmp_path: Path, comment_xml: str) -> tuple[Path, str]:
 
 
 def test_cameo_comment_with_body_attribute_and_idref_children(tmp_path: Path) -> None:
-    xml = ('<ownedComment xmlns:xmi="%s" xmi:id="_c1" body="earl-m2t: ignore[C008] vendor names">'
-           '<annotatedElement xmi:idref="LINK"/></ownedComment>') % XMI
+    xml = (f'<ownedComment xmlns:xmi="{XMI}" xmi:id="_c1" body="earl-m2t: ignore[C008] vendor names">'
+           '<annotatedElement xmi:idref="LINK"/></ownedComment>')
     path, _ = _variant(tmp_path, xml)
     assert check(path) == []
 
@@ -47,16 +47,18 @@ def test_html_comment_body_and_several_codes(tmp_path: Path) -> None:
 
 
 def test_a_comment_without_annotated_element_applies_to_its_owner(tmp_path: Path) -> None:
-    xml = f'<ownedComment xmlns:xmi="{XMI}" xmi:id="_c1"><body>earl-m2t: ignore[C008] vendor names</body></ownedComment>'
+    xml = (f'<ownedComment xmlns:xmi="{XMI}" xmi:id="_c1">'
+           '<body>earl-m2t: ignore[C008] vendor names</body></ownedComment>')
     path, _ = _variant(tmp_path, xml)
     assert check(path) == []
 
 
 def test_a_finding_is_matched_by_the_path_of_the_annotated_element(tmp_path: Path) -> None:
-    xml = f'<ownedComment xmlns:xmi="{XMI}" xmi:id="_c1" annotatedElement="LINK"><body>earl-m2t: ignore[C006] ok</body></ownedComment>'
+    xml = (f'<ownedComment xmlns:xmi="{XMI}" xmi:id="_c1" annotatedElement="LINK">'
+           '<body>earl-m2t: ignore[C006] ok</body></ownedComment>')
     path, link_id = _variant(tmp_path, xml)
     loaded = load(path)
-    (link,) = [l for l in loaded.model.links if l.location.xmi_id == link_id]
+    (link,) = [link for link in loaded.model.links if link.location.xmi_id == link_id]
     elsewhere = Diagnostic("C006", Severity.ERROR, "a finding located elsewhere", Location(str(path), 3, 0, "_x"),
                            link.path)
     other = Diagnostic("C006", Severity.ERROR, "another element", Location(str(path), 3, 0, "_x"), "task/a")

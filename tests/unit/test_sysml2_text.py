@@ -135,4 +135,5 @@ def test_a_construct_read_in_part_is_named_by_the_part_outside_the_subset() -> N
         "}\n",
         model=True,
     )
-    assert [o.construct for o in outside_constructs(root)] == ["state … parallel", "transition … accept", "transition … do"]
+    assert [o.construct for o in outside_constructs(root)] == [
+        "state … parallel", "transition … accept", "transition … do"]

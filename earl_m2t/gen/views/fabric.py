@@ -135,7 +135,8 @@ def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: 
             next_states.append({"name": _xml(t.target), "init_cond": writer.guard(t.condition, t.path, higher),
                                 "trace": t.path})
         states.append({
-            "trace": state.path, "name": _xml(state.name), "behaviours": [bb_names[b] for b in state.behaviours if b in bb_names],
+            "trace": state.path, "name": _xml(state.name),
+            "behaviours": [bb_names[b] for b in state.behaviours if b in bb_names],
             "next": next_states,
             "group": _activation(state, groups, period, target, where),
         })
