@@ -1,11 +1,34 @@
-"""The test suite's root: the checkout is importable (``tests.support``), as pyproject's
-``pythonpath`` says for pytest, also for test modules loaded by other means."""
+"""Fixtures shared by the whole suite: the reference sample and the script that writes it.
+
+The checkout is importable (``tests.support``) through pyproject's ``pythonpath``: no test
+module changes ``sys.path``."""
 
 from __future__ import annotations
 
-import sys
+import importlib.util
+from pathlib import Path
+from types import ModuleType
 
-from tests.support.paths import ROOT
+import pytest
 
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from tests.support.paths import ROOT, SAMPLE
+
+
+@pytest.fixture(scope="session")
+def sample_path() -> Path:
+    return SAMPLE
+
+
+@pytest.fixture(scope="session")
+def sample_bytes() -> bytes:
+    return SAMPLE.read_bytes()
+
+
+@pytest.fixture(scope="session")
+def make_sample() -> ModuleType:
+    """``scripts/make_sample.py`` as a module (``build(stereotypes=...)`` writes the sample)."""
+    spec = importlib.util.spec_from_file_location("make_sample", ROOT / "scripts" / "make_sample.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -18,17 +18,14 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t.api import load
+from earl_m2t.gen import generate
 
-from earl_m2t.api import load  # noqa: E402
-from earl_m2t.gen import generate  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 SOURCES = ROOT / "bench" / "cpp"

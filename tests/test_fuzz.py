@@ -19,11 +19,9 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from tests.fuzz.runner import REGRESSIONS, Campaign, failures, seeds, summary
 
-from tests.fuzz.runner import REGRESSIONS, Campaign, failures, seeds, summary  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 SEED = 20261124
 INPUTS = 2400

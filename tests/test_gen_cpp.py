@@ -14,19 +14,17 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t.api import load
+from earl_m2t.gen import GenError, generate, render
+from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
+from earl_m2t.gen.names import Scope, cpp_identifier
+from earl_m2t.lift.conditions import ConditionLifter
+from earl_m2t.model.conditions import Condition, ConditionRole
+from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.location import Location
+from earl_m2t.model.naming import _table
 
-from earl_m2t.api import load  # noqa: E402
-from earl_m2t.gen import GenError, generate, render  # noqa: E402
-from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols  # noqa: E402
-from earl_m2t.gen.names import Scope, cpp_identifier  # noqa: E402
-from earl_m2t.lift.conditions import ConditionLifter  # noqa: E402
-from earl_m2t.model.conditions import Condition, ConditionRole  # noqa: E402
-from earl_m2t.model.elements import EarlModel  # noqa: E402
-from earl_m2t.model.location import Location  # noqa: E402
-from earl_m2t.model.naming import _table  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 RUNTIME = ROOT / "transforms" / "cpp" / "runtime"

@@ -13,21 +13,14 @@ import sys
 from pathlib import Path
 
 import pytest
+import rosbags.typesys as rosbags_typesys  # the second parser of the messages (test extra rosbags)
+from genmsg import InvalidMsgSpec, MsgContext, MsgNotFound
+from genmsg.gentools import compute_md5
+from genmsg.msg_loader import load_depends, load_msg_by_type
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-
-genmsg = pytest.importorskip("genmsg", reason="pyros-genmsg (test extra) parses the generated messages")
-rosbags_typesys = pytest.importorskip("rosbags.typesys", reason="rosbags (test extra) is the second parser")
-
-from genmsg import InvalidMsgSpec, MsgContext, MsgNotFound  # noqa: E402
-from genmsg.gentools import compute_md5  # noqa: E402
-from genmsg.msg_loader import load_depends, load_msg_by_type  # noqa: E402
-
-from earl_m2t.api import load  # noqa: E402
-from earl_m2t.gen import GenError, generate, render  # noqa: E402
-from earl_m2t.gen.views.msg import (  # noqa: E402
+from earl_m2t.api import load
+from earl_m2t.gen import GenError, generate, render
+from earl_m2t.gen.views.msg import (
     CONSTANT_NAME,
     FIELD_NAME,
     MESSAGE_NAME,
@@ -36,6 +29,8 @@ from earl_m2t.gen.views.msg import (  # noqa: E402
     message_name,
     package_name,
 )
+
+ROOT = Path(__file__).resolve().parents[1]
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 PACKAGE = "pick_and_place_msgs"

@@ -20,12 +20,9 @@ import pytest
 
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, render
+from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-
-from tests.support.load import cpu_hogs, run_until  # noqa: E402
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"

@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+from earl_m2t import check, load
+from tests.support.papyrus_builder import REAL, End, ModelBuilder
 
-from earl_m2t import check, load  # noqa: E402
-from tests.support.papyrus_builder import REAL, End, ModelBuilder  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _cell_model(tmp_path: Path, robots: int, stereotypes: bool = True) -> Path:

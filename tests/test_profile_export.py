@@ -10,19 +10,17 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t import resources
+from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.output import OutputError, write_files
+from earl_m2t.profile import load_profile
+from earl_m2t.profile_export import FORMATS, ProfileExportError, profile_spec
+from earl_m2t.profile_export.render import export_profile, load_targets
+from earl_m2t.read.loader import load_raw_model
+from earl_m2t.read.xmi import dialect_table
+from tests.support.papyrus_builder import EARL_EPACKAGE_ID, EARL_NS, EARL_PROFILE_ID
 
-from earl_m2t import resources  # noqa: E402
-from earl_m2t.diagnostics import ModelReadError  # noqa: E402
-from earl_m2t.output import OutputError, write_files  # noqa: E402
-from earl_m2t.profile import load_profile  # noqa: E402
-from earl_m2t.profile_export import FORMATS, ProfileExportError, profile_spec  # noqa: E402
-from earl_m2t.profile_export.render import export_profile, load_targets  # noqa: E402
-from earl_m2t.read.loader import load_raw_model  # noqa: E402
-from earl_m2t.read.xmi import dialect_table  # noqa: E402
-from tests.support.papyrus_builder import EARL_EPACKAGE_ID, EARL_NS, EARL_PROFILE_ID  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 SAMPLE_DIR = ROOT / "samples" / "pick_and_place"
 SAMPLE = SAMPLE_DIR / "pick_and_place.uml"

@@ -17,23 +17,20 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.load import cpu_hogs, run_until
+
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
 CYCLES = 1000  # the scripted task ends with the emergency stop at about cycle 850
 TOLERANCE = 1e-3  # rad: every joint within this of its setpoint once the motion is finished
 JOINTS = 6
-
 NUMBERS = r"((?: -?\d+\.\d+){6})"
 STATE = re.compile(r"^step (\d+) manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \(([^)]*)\))$")
 POSITIONS = re.compile(rf"^step (\d+) manip/a\.cs: q{NUMBERS} finished ([01]) estop ([01])$")
 CURRENTS = re.compile(rf"^step (\d+) manip/a\.cs: i{NUMBERS} estop ([01])$")
 SETPOINT = re.compile(rf"^step (\d+) task/a\.cs: jointMove setpoint{NUMBERS}$")
 TASK = re.compile(r"^step \d+ task/a\.cs: (jointMove setpoint|motion finished|emergency stop)")
-
-from tests.support.load import cpu_hogs, run_until  # noqa: E402
 
 # The loaded threaded campaign: 50 runs, each stopped as soon as manip/a.cs reached
 # emergencyStop (about 0.85 s of the sample's script at the threaded period of 1 ms), with

@@ -221,8 +221,8 @@ class StructureLifter:
             links.extend(self.links.agent_links(group_block, path, instances))
             member_paths = tuple(i.subsystem.path for i in instances if any(i.part is m for m in members))
             group_name = self.raw.name(group_part)
-            groups.append(Group(group_name, f"{path}.{group_name}", GroupKind.SUBSYSTEMS, self.raw.name(group_block), path,
-                                member_paths, tuple(held), self.raw.location(group_part),
+            groups.append(Group(group_name, f"{path}.{group_name}", GroupKind.SUBSYSTEMS, self.raw.name(group_block),
+                                path, member_paths, tuple(held), self.raw.location(group_part),
                                 self.recogniser.recognise(group_block).route or "suffix"))
         tags = self.recogniser.tags(block)
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()

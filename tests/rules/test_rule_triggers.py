@@ -18,7 +18,6 @@ A rule with several distinct triggers has one row per trigger (``B001-two-initia
 from __future__ import annotations
 
 import copy
-import sys
 import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -29,12 +28,9 @@ from lxml import etree
 
 from earl_m2t import Diagnostic, check
 from earl_m2t.check.registry import catalogue
+from tests.support.papyrus_builder import REAL, Block, End, ModelBuilder, Property
 
 ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-
-from tests.support.papyrus_builder import REAL, Block, End, ModelBuilder, Property  # noqa: E402
 
 XMI = "http://www.omg.org/spec/XMI/20131001"
 UML = "http://www.eclipse.org/uml2/5.0.0/UML"

@@ -5,20 +5,17 @@ read, and reads the file itself when the parse does not apply."""
 from __future__ import annotations
 
 import os
-import sys
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t.api import check, load
+from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.read.bounded import ReadPolicy, reading_with
+from earl_m2t.read.early import parsing_early, still_parsing, take_parsed
+from earl_m2t.read.xmi import read_raw_model
 
-from earl_m2t.api import check, load  # noqa: E402
-from earl_m2t.diagnostics import ModelReadError  # noqa: E402
-from earl_m2t.read.bounded import ReadPolicy, reading_with  # noqa: E402
-from earl_m2t.read.early import parsing_early, still_parsing, take_parsed  # noqa: E402
-from earl_m2t.read.xmi import read_raw_model  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 ARCHIVE = ROOT.parent / "shared" / "corpus" / "cameo" / "capella-bridge-statemodes-md19.mdzip"

@@ -5,19 +5,16 @@ from __future__ import annotations
 
 import itertools
 import random
-import sys
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis, describe
+from earl_m2t.model.elements import EarlModel, Subsystem
+from earl_m2t.predicate import Expr, FieldRef, PredicateRef, evaluate, parse_predicate
+from tests.support.fsm_builder import build
 
-from earl_m2t.analysis.guards import MAX_OVERLAPS_PER_STATE, GuardAnalysis, describe  # noqa: E402
-from earl_m2t.model.elements import EarlModel, Subsystem  # noqa: E402
-from earl_m2t.predicate import Expr, FieldRef, PredicateRef, evaluate, parse_predicate  # noqa: E402
-from tests.support.fsm_builder import build  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _overlaps(model: EarlModel, sub: Subsystem) -> dict[str, list[tuple[str, str, str]]]:

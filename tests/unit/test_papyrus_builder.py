@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import importlib.util
 import re
-import sys
 from collections import Counter
 from pathlib import Path
 from types import ModuleType
@@ -12,11 +11,7 @@ from types import ModuleType
 import pytest
 from lxml import etree
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-
-from tests.support.papyrus_builder import (  # noqa: E402
+from tests.support.papyrus_builder import (
     BOOLEAN,
     EARL_NS,
     EARL_STEREOTYPES,
@@ -27,6 +22,8 @@ from tests.support.papyrus_builder import (  # noqa: E402
     Multiplicity,
     Param,
 )
+
+ROOT = Path(__file__).resolve().parents[2]
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 

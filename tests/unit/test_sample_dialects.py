@@ -10,7 +10,6 @@ by a small per-dialect helper and must agree.
 from __future__ import annotations
 
 import importlib.util
-import sys
 from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
@@ -20,12 +19,10 @@ from typing import Any
 import pytest
 from lxml import etree
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+from earl_m2t.profile_export.render import export_profile
+from tests.support import cameo_builder, ea_builder
 
-from earl_m2t.profile_export.render import export_profile  # noqa: E402
-from tests.support import cameo_builder, ea_builder  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
 
 SAMPLES = ROOT / "samples" / "pick_and_place"
 FILES = {
