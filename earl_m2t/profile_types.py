@@ -49,11 +49,6 @@ class Feature:
         """True when more than one value is allowed."""
         return self.upper is None or self.upper > 1
 
-    def multiplicity_text(self) -> str:
-        """``1``, ``0..1``, ``1..*``..."""
-        upper = "*" if self.upper is None else str(self.upper)
-        return str(self.lower) if upper == str(self.lower) else f"{self.lower}..{upper}"
-
 
 @dataclass(frozen=True, slots=True)
 class Concept:

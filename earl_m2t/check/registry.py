@@ -7,7 +7,7 @@ Rows come from ``metamodel/rules/catalogue.toml``; OCL rules are the invariants 
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cache
 
@@ -88,7 +88,3 @@ def select_codes(selectors: Iterable[str]) -> set[str]:
             raise KeyError(item)
         chosen |= matches
     return chosen
-
-
-def iter_rules() -> Iterator[RuleInfo]:
-    yield from catalogue().values()

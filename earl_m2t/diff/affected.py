@@ -22,17 +22,13 @@ from earl_m2t.output import written_by_earl_m2t
 
 @dataclass(frozen=True)
 class AffectedFile:
-    action: str  # see ACTIONS
+    """What the next ``gen`` does to a file. ``action``: ``rewrites`` (a generated file whose
+    content changes), ``generates`` (a generated file the new model adds), ``drops`` (a
+    generated file the new model no longer produces; gen keeps it), ``adds`` (a user file the
+    next gen creates), ``orphans`` (a user file the new model no longer produces; gen keeps it)."""
+
+    action: str
     path: str  # relative to the output folder, POSIX form
-
-
-ACTIONS = {
-    "rewrites": "generated file whose content changes",
-    "generates": "generated file the new model adds",
-    "drops": "generated file the new model no longer produces (gen keeps it)",
-    "adds": "user file the next gen creates",
-    "orphans": "user file the new model no longer produces (gen keeps it)",
-}
 
 
 def affected_files(old: EarlModel | None, new: EarlModel | None, out_dir: Path, target: str) -> list[AffectedFile]:

@@ -27,7 +27,6 @@ from earl_m2t.model.naming import stem, suffix
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 PREDICATE_LANGUAGES = frozenset({"", "earl", "earl-predicate", "predicate"})
-BEHAVIOUR_TYPES = ("OpaqueBehavior", "FunctionBehavior", "Activity", "StateMachine", "Interaction")
 CONTROL_NODES = frozenset(
     {"InitialNode", "ActivityFinalNode", "FlowFinalNode", "ForkNode", "JoinNode", "MergeNode", "DecisionNode"}
 )

@@ -26,22 +26,6 @@ def subsystem_graph(model: EarlModel) -> nx.DiGraph:
     return graph
 
 
-def agent_graph(model: EarlModel) -> nx.DiGraph:
-    """Agents as nodes, inter-agent links as edges (the paper's system graph, Sec. 2.5)."""
-    import networkx as nx
-
-    graph: nx.DiGraph = nx.DiGraph()
-    for agent in model.agents:
-        graph.add_node(agent.path)
-    for system in model.systems:
-        for link in system.links:
-            source = model.subsystem_of(link.source)
-            target = model.subsystem_of(link.target)
-            if source is not None and target is not None:
-                graph.add_edge(source.agent, target.agent, link=link.path)
-    return graph
-
-
 def fsm_graph(fsm: Fsm) -> nx.DiGraph:
     """States as nodes, transitions between states of this FSM as edges."""
     import networkx as nx

@@ -21,5 +21,3 @@ class Location:
             return f"{self.file}:{self.line}"
         return self.file
 
-
-UNKNOWN = Location("<unknown>")
