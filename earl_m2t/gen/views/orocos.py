@@ -14,6 +14,7 @@ components through its ports ``<pf>_<port>``, connected to port ``<port>`` of th
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 from xml.sax.saxutils import escape
@@ -23,7 +24,7 @@ from earl_m2t.gen.names import cpp_comment
 from earl_m2t.gen.views.cpp import CppView
 from earl_m2t.gen.views.fabric import FabricTarget, definition_spec, instance_configuration
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
-from earl_m2t.model.elements import EarlModel, Subsystem
+from earl_m2t.model.elements import EarlModel, Subsystem, System
 
 Data = dict[str, Any]
 
@@ -95,100 +96,144 @@ class _Ports:
 
 def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTarget,
                target: OrocosTarget) -> OrocosView:
+    """The view of a model from its C++ and msg views; raises GenError when it cannot be generated."""
     system = model.system
     if system is None:
         raise GenError("the model has no EARL System to generate")
-    model_ns = cpp.system["ns"]
-    msg_names = {m["key"]: m["name"] for m in msgs.messages}
+    return _Builder(model, system, cpp, msgs, msg_target, target).build()
 
-    def ros_message(datatype: str, where: str) -> str:
-        external = target.fabric.external_message(model.datatypes.get(datatype))
+
+class _Builder:
+    """Builds the view in order: definitions, instances (their component names), links, then what
+    needs every link (FABRIC's channels, each instance's connections)."""
+
+    def __init__(self, model: EarlModel, system: System, cpp: CppView, msgs: MsgView, msg_target: MsgTarget,
+                 target: OrocosTarget) -> None:
+        self.model = model
+        self.system = system
+        self.cpp = cpp
+        self.msgs = msgs
+        self.msg_target = msg_target
+        self.target = target
+        self.model_ns = cpp.system["ns"]
+        self.msg_names = {m["key"]: m["name"] for m in msgs.messages}
+        self.components: dict[str, str] = {}  # component name in lower case -> what it is, for D004
+        self.port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (master component, port)
+
+    def build(self) -> OrocosView:
+        definitions = self._definitions()
+        by_block = {definition["block_id"]: entry for definition, entry in zip(self.cpp.subsystems, definitions)}
+        placed = self._instances(by_block)
+        instances = [instance for instance, _ in placed]
+        links = self._links()
+        self._fabric_configurations(placed, links)
+        self._connections(instances, links)
+        notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
+        return OrocosView(system=self._system(definitions, instances, links), definitions=definitions,
+                          instances=instances, notes=notes)
+
+    def _ros_message(self, datatype: str, where: str) -> str:
+        """The ROS message type of a buffer of this dataType, as the FABRIC files name it."""
+        external = self.target.fabric.external_message(self.model.datatypes.get(datatype))
         if external is not None:
             return external
-        if datatype in msg_names:
-            return f"{msgs.package}::{msg_names[datatype]}"
-        ros = ros_type(model, datatype, msg_names, msg_target, where)
-        wrapper = target.std_msgs.get(ros)
+        if datatype in self.msg_names:
+            return f"{self.msgs.package}::{self.msg_names[datatype]}"
+        ros = ros_type(self.model, datatype, self.msg_names, self.msg_target, where)
+        wrapper = self.target.std_msgs.get(ros)
         if wrapper is None:
             raise GenError(f"{where}: no std_msgs message for the ROS type {ros}")
         return f"std_msgs::{wrapper}"
 
-    first: dict[str, Subsystem] = {}
-    for sub in model.subsystems:
-        first.setdefault(sub.block_id, sub)
-    definitions: list[Data] = []
-    by_block: dict[str, Data] = {}
-    for definition in cpp.subsystems:
-        entry = _definition(model, first[definition["block_id"]], definition, model_ns, ros_message, target)
-        definitions.append(entry)
-        by_block[definition["block_id"]] = entry
+    def _definitions(self) -> list[Data]:
+        """One entry per subsystem definition, made from its first instance."""
+        first: dict[str, Subsystem] = {}
+        for sub in self.model.subsystems:
+            first.setdefault(sub.block_id, sub)
+        return [_definition(self.model, first[definition["block_id"]], definition, self.model_ns, self._ros_message,
+                            self.target) for definition in self.cpp.subsystems]
 
-    instances: list[Data] = []
-    components: dict[str, str] = {}  # component name -> what it is, for D004
-    port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (master component, port)
-
-    def component(name: str, what: str) -> str:
-        if name.lower() in components:
-            raise GenError(f"D004 {what}: the component name {name} is also that of {components[name.lower()]}")
-        components[name.lower()] = what
+    def _component(self, name: str, what: str) -> str:
+        """A component name, refused (rule D004) when it equals another one but for case."""
+        if name.lower() in self.components:
+            raise GenError(f"D004 {what}: the component name {name} is also that of {self.components[name.lower()]}")
+        self.components[name.lower()] = what
         return name
 
-    for agent_view, agent in zip(cpp.agents, system.agents):
-        for instance_view, sub in zip(agent_view["instances"], agent.subsystems):
-            entry = by_block[sub.block_id]
-            master = component(f"{agent_view['ns']}_{instance_view['member']}", sub.path)
-            pfs = [_pf_instance(master, pf, component(f"{master}_{pf['role']}", f"{sub.path} pf {pf['role']}"))
-                   for pf in entry["pfs"]]
-            ports = {(b["template"], b["index"]): b for b in entry["buffers"]}
-            for buf in sub.buffers:
-                port_of[buf.path] = (master, ports[(buf.template, buf.index)]["port"])
-            instance = {"name": master, "path": xml_text(sub.path), "comment": cpp_comment(sub.path),
-                        "type": entry["master_type"],
-                        "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
-                        "event_driven": entry["event_driven"],
-                        "period": POLL_PERIOD if entry["event_driven"] else target.period,
-                        "priority": target.priority, "scheduler": target.scheduler,
-                        "policy": target.policy, "package": entry["library"], "definition": entry,
-                        "trace": sub.path}
-            instances.append(instance)
-    links: list[Data] = []
-    for link in model.links:
-        if not link.source or not link.target or link.source not in port_of or link.target not in port_of:
-            raise GenError(f"{link.path}: a link goes from an Output Buffer to an Input Buffer (rule C001)")
-        source, destination = port_of[link.source], port_of[link.target]
-        target_buffer = model.buffer(link.target)
-        queue = target_buffer.queue_size if target_buffer is not None and target_buffer.receive == "queue" else 0
-        links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
-                      "to": f"{destination[0]}.{destination[1]}", "queue": queue,
-                      "policy": f"queue{queue}" if queue else "links", "trace": link.path})
-    channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
-    alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i in instances for b in i["buffers"]}
-    for connection in links:
-        if connection["to"] in channels:
-            raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
-                           "this one has several links")
-        channels[connection["to"]] = alias_of[connection["from"]]
-    for instance in instances:
-        definition = instance.pop("definition")
-        instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
-            instance, definition["fabric"], definition["pfs"], channels, target.fabric)
-    for instance in instances:
-        master = instance["name"]
-        instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
-        for buf in instance["buffers"]:
-            own = f"{master}.{buf['port']}"
-            ends = [link["from"] if buf["direction"] == "in" else link["to"] for link in links
-                    if own == (link["to"] if buf["direction"] == "in" else link["from"])]
-            instance["io"] += [{"alias": buf["port"], "name": end} for end in ends or [own]]
-    libraries = [{"name": d["library"], "source": d["source"],
-                  "types": [d["master_type"]] + [p["type"] for p in d["pfs"]]} for d in definitions]
-    project = field_name(model.name or system.name or "model") + target.package_suffix
-    system_data = {"model": cpp.system["model"], "ns": model_ns, "project": project, "libraries": libraries,
-                   "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
-                   "queues": sorted({link["queue"] for link in links if link["queue"]})}
-    system_data["trace"] = cpp.system["trace"]
-    notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
-    return OrocosView(system=system_data, definitions=definitions, instances=instances, notes=notes)
+    def _instances(self, by_block: dict[str, Data]) -> list[tuple[Data, Data]]:
+        """(instance, its definition) of every subsystem instance."""
+        placed: list[tuple[Data, Data]] = []
+        for agent_view, agent in zip(self.cpp.agents, self.system.agents):
+            for instance_view, sub in zip(agent_view["instances"], agent.subsystems):
+                entry = by_block[sub.block_id]
+                placed.append((self._instance(f"{agent_view['ns']}_{instance_view['member']}", sub, entry), entry))
+        return placed
+
+    def _instance(self, name: str, sub: Subsystem, entry: Data) -> Data:
+        """A subsystem instance: its master component, named ``name``, and its pf components."""
+        master = self._component(name, sub.path)
+        pfs = [_pf_instance(master, pf, self._component(f"{master}_{pf['role']}", f"{sub.path} pf {pf['role']}"))
+               for pf in entry["pfs"]]
+        ports = {(b["template"], b["index"]): b for b in entry["buffers"]}
+        for buf in sub.buffers:
+            self.port_of[buf.path] = (master, ports[(buf.template, buf.index)]["port"])
+        target = self.target
+        return {"name": master, "path": xml_text(sub.path), "comment": cpp_comment(sub.path),
+                "type": entry["master_type"],
+                "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
+                "event_driven": entry["event_driven"],
+                "period": POLL_PERIOD if entry["event_driven"] else target.period,
+                "priority": target.priority, "scheduler": target.scheduler,
+                "policy": target.policy, "package": entry["library"], "trace": sub.path}
+
+    def _links(self) -> list[Data]:
+        """The connection of every link, from output port to input port, with its queue."""
+        model, port_of = self.model, self.port_of
+        links: list[Data] = []
+        for link in model.links:
+            if not link.source or not link.target or link.source not in port_of or link.target not in port_of:
+                raise GenError(f"{link.path}: a link goes from an Output Buffer to an Input Buffer (rule C001)")
+            source, destination = port_of[link.source], port_of[link.target]
+            target_buffer = model.buffer(link.target)
+            queue = target_buffer.queue_size if target_buffer is not None and target_buffer.receive == "queue" else 0
+            links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
+                          "to": f"{destination[0]}.{destination[1]}", "queue": queue,
+                          "policy": f"queue{queue}" if queue else "links", "trace": link.path})
+        return links
+
+    def _fabric_configurations(self, placed: list[tuple[Data, Data]], links: list[Data]) -> None:
+        """FABRIC's run-time configuration of every instance whose definition FABRIC can express."""
+        channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
+        alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i, _ in placed for b in i["buffers"]}
+        for connection in links:
+            if connection["to"] in channels:
+                raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
+                               "this one has several links")
+            channels[connection["to"]] = alias_of[connection["from"]]
+        for instance, definition in placed:
+            instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
+                instance, definition["fabric"], definition["pfs"], channels, self.target.fabric)
+
+    @staticmethod
+    def _connections(instances: list[Data], links: list[Data]) -> None:
+        """The links into each instance, and the ends each of its buffers is connected to (itself if none)."""
+        for instance in instances:
+            master = instance["name"]
+            instance["links"] = [link for link in links if link["to"].partition(".")[0] == master]
+            for buf in instance["buffers"]:
+                own = f"{master}.{buf['port']}"
+                ends = [link["from"] if buf["direction"] == "in" else link["to"] for link in links
+                        if own == (link["to"] if buf["direction"] == "in" else link["from"])]
+                instance["io"] += [{"alias": buf["port"], "name": end} for end in ends or [own]]
+
+    def _system(self, definitions: list[Data], instances: list[Data], links: list[Data]) -> Data:
+        """The CMake project: its component libraries; the deployment: instances and links."""
+        libraries = [{"name": d["library"], "source": d["source"],
+                      "types": [d["master_type"]] + [p["type"] for p in d["pfs"]]} for d in definitions]
+        project = field_name(self.model.name or self.system.name or "model") + self.target.package_suffix
+        return {"model": self.cpp.system["model"], "ns": self.model_ns, "project": project, "libraries": libraries,
+                "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
+                "queues": sorted({link["queue"] for link in links if link["queue"]}), "trace": self.cpp.system["trace"]}
 
 
 def _pf_instance(master: str, pf: Data, name: str) -> Data:
@@ -200,8 +245,8 @@ def _pf_instance(master: str, pf: Data, name: str) -> Data:
     return {"name": name, "role": pf["role"], "type": pf["type"], "connections": connections}
 
 
-def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: str, ros_message: Any,
-                target: OrocosTarget) -> Data:
+def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: str,
+                ros_message: Callable[[str, str], str], target: OrocosTarget) -> Data:
     """A subsystem definition: its master component, its pf components, its FABRIC model."""
     ns = definition["ns"]
     where = sub.path

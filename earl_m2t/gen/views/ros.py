@@ -22,7 +22,7 @@ from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import cpp_identifier, cpp_string
 from earl_m2t.gen.views.cpp import CppView
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
-from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.elements import Buffer, EarlModel, Subsystem, System
 
 Data = dict[str, Any]
 
@@ -89,62 +89,126 @@ class _Scope:
 
 def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTarget,
                target: RosTarget, strict: bool = True) -> RosView:
+    """The view of a model from its C++ and msg views; raises GenError when it cannot be generated."""
     system = model.system
     if system is None:
         raise GenError("the model has no EARL System to generate")
-    model_ns = cpp.system["ns"]
-    stem = field_name(model.name or system.name or "model")
-    msg_names = {m["key"]: m for m in msgs.messages}
-    names = {key: m["name"] for key, m in msg_names.items()}
+    return _Builder(model, system, cpp, msgs, msg_target, target, strict).build()
 
-    def ros_msg(datatype: str, where: str) -> tuple[str, str, str]:
+
+class _Builder:
+    """Builds the view in the order its names are taken: packages, nodes, node instances."""
+
+    def __init__(self, model: EarlModel, system: System, cpp: CppView, msgs: MsgView, msg_target: MsgTarget,
+                 target: RosTarget, strict: bool) -> None:
+        self.model = model
+        self.system = system
+        self.cpp = cpp
+        self.msgs = msgs
+        self.msg_target = msg_target
+        self.target = target
+        self.strict = strict
+        self.model_ns = cpp.system["ns"]
+        self.stem = field_name(model.name or system.name or "model")
+        self.messages = {m["key"]: m for m in msgs.messages}  # dataType key -> its message
+        self.message_names = {key: m["name"] for key, m in self.messages.items()}
+        self.agent_of: dict[str, Data] = {}  # agent path -> its package
+        self.node_of_block: dict[str, Data] = {}  # block id -> the node of that subsystem definition
+        self.instance_of: dict[str, Data] = {}  # subsystem instance path -> its node instance
+        self.topic_of: dict[str, str] = {}  # buffer instance path -> its absolute topic
+
+    def build(self) -> RosView:
+        packages = self._packages()
+        bringup = self._bringup(packages)
+        nodes = self._nodes()
+        self._instances()
+        links = self._links()
+        system = {"model": self.cpp.system["model"], "msgs": self.msgs.package,
+                  "messages": [m["name"] for m in self.msgs.messages], "bringup": bringup, "stem": self.stem,
+                  "agents": packages, "links": links, "period": self.target.period, "nodes": len(self.instance_of),
+                  "trace": self.cpp.system["trace"]}
+        return RosView(system=system, packages=packages, nodes=nodes, convert=self._convert())
+
+    def _message(self, datatype: str, where: str) -> tuple[str, str, str]:
         """(C++ message type, header, field suffix) of a buffer of this dataType."""
-        if datatype in msg_names:
-            name = msg_names[datatype]["name"]
-            return f"{msgs.package}::{name}", f"{msgs.package}/{name}.h", ""
-        ros = ros_type(model, datatype, names, msg_target, where)
-        wrapper = target.std_msgs.get(ros)
+        package = self.msgs.package
+        if datatype in self.messages:
+            name = self.messages[datatype]["name"]
+            return f"{package}::{name}", f"{package}/{name}.h", ""
+        ros = ros_type(self.model, datatype, self.message_names, self.msg_target, where)
+        wrapper = self.target.std_msgs.get(ros)
         if wrapper is None:
             raise GenError(f"{where}: no std_msgs message for the ROS type {ros}")
         return f"std_msgs::{wrapper}", f"std_msgs/{wrapper}.h", ".data"
 
-    # topics: buffer path -> absolute topic; inputs: buffer path -> link sources
-    agent_of: dict[str, Data] = {}
-    packages: list[Data] = []
-    taken_packages = {msgs.package}
-    namespaces = _Scope("namespace", strict)
-    for agent_view in cpp.agents:
-        package_name = f"{stem}_{field_name(agent_view['ns'])}"
-        if not PACKAGE_NAME.match(package_name):
-            raise GenError(f"D003 agent {agent_view['path']}: the package name {package_name} is not a ROS name")
-        if package_name in taken_packages:
-            raise GenError(f"D004 agent {agent_view['path']}: the package name {package_name} is taken")
-        taken_packages.add(package_name)
-        entry: Data = {"name": package_name, "ns": namespaces.take(agent_view["ns"], agent_view["path"]),
-                       "path": agent_view["path"], "trace": agent_view["path"],
-                 "comment": agent_view["comment"], "nodes": [], "instances": [], "depends": set()}
-        packages.append(entry)
-        agent_of[agent_view["path"]] = entry
-    bringup = stem + target.bringup_suffix
-    if bringup in taken_packages:
-        raise GenError(f"D004 the package name {bringup} is taken")
+    # ------------------------------------------------------------------ packages
 
-    # subsystem definitions -> nodes
-    first_instance: dict[str, Any] = {}
-    for sub in model.subsystems:
-        first_instance.setdefault(sub.block_id, sub)
-    nodes: list[Data] = []
-    node_of_block: dict[str, Data] = {}
-    package: Data
-    executables: dict[str, _Scope] = {}
-    for definition in cpp.subsystems:
-        sub = first_instance[definition["block_id"]]
-        package = agent_of[sub.agent]
-        exe = executables.setdefault(package["name"], _Scope("executable", strict)).take(
-            definition["sub"], sub.path) + "_node"
-        topics = _Scope("topic", strict)
+    def _packages(self) -> list[Data]:
+        """One package per agent, named after the model and the agent's C++ namespace."""
+        packages: list[Data] = []
+        taken = {self.msgs.package}
+        namespaces = _Scope("namespace", self.strict)
+        for agent_view in self.cpp.agents:
+            path = agent_view["path"]
+            name = f"{self.stem}_{field_name(agent_view['ns'])}"
+            if not PACKAGE_NAME.match(name):
+                raise GenError(f"D003 agent {path}: the package name {name} is not a ROS name")
+            if name in taken:
+                raise GenError(f"D004 agent {path}: the package name {name} is taken")
+            taken.add(name)
+            package: Data = {"name": name, "ns": namespaces.take(agent_view["ns"], path), "path": path,
+                             "trace": path, "comment": agent_view["comment"], "nodes": [], "instances": [],
+                             "depends": set()}
+            packages.append(package)
+            self.agent_of[path] = package
+        return packages
+
+    def _bringup(self, packages: list[Data]) -> str:
+        """The name of the package of the system's launch file."""
+        name = self.stem + self.target.bringup_suffix
+        if name == self.msgs.package or any(p["name"] == name for p in packages):
+            raise GenError(f"D004 the package name {name} is taken")
+        return name
+
+    # ------------------------------------------------------------------ nodes
+
+    def _nodes(self) -> list[Data]:
+        """One node per subsystem definition, in the package of the agent of its first instance."""
+        first_instance: dict[str, Subsystem] = {}
+        for sub in self.model.subsystems:
+            first_instance.setdefault(sub.block_id, sub)
+        nodes: list[Data] = []
+        executables: dict[str, _Scope] = {}  # package name -> the executables of the package
+        for definition in self.cpp.subsystems:
+            sub = first_instance[definition["block_id"]]
+            package = self.agent_of[sub.agent]
+            scope = executables.setdefault(package["name"], _Scope("executable", self.strict))
+            exe = scope.take(definition["sub"], sub.path) + "_node"
+            node = self._node(definition, sub, package["name"], exe)
+            nodes.append(node)
+            self.node_of_block[definition["block_id"]] = node
+            package["nodes"].append(node)
+        return nodes
+
+    def _node(self, definition: Data, sub: Subsystem, package: str, exe: str) -> Data:
+        elements, headers = self._topics(definition, sub)
+        model_ns = self.model_ns
+        return {"target": f"{package}_{exe}", "exe": exe, "source": f"src/{exe}.cpp", "package": package,
+                "cls": f"::{definition['ns']}::Subsystem",
+                "include": f"{model_ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp",
+                "path": cpp_string(sub.path), "comment": definition["comment"], "model_ns": model_ns,
+                "trace": sub.path, "headers": sorted(headers),
+                "inputs": [e for e in elements if e["kind"] == "ib"],
+                "outputs": [e for e in elements if e["kind"] == "ob"], "period": self.target.period,
+                "queue": self.target.queue, "convert": f"{model_ns}/ros/convert.hpp",
+                "convert_ns": f"{model_ns}_ros", "model": self.cpp.system["model"]}
+
+    def _topics(self, definition: Data, sub: Subsystem) -> tuple[list[Data], set[str]]:
+        """The topic of every buffer of a node, by port and index, and the message headers it needs.
+        An input with several links has one topic per link."""
+        topics = _Scope("topic", self.strict)
         ports = {p["member"]: p for p in definition["ports"]}
-        by_template: dict[str, list[Any]] = {}
+        by_template: dict[str, list[Buffer]] = {}
         for buf in sub.buffers:
             by_template.setdefault(buf.template, []).append(buf)
         elements: list[Data] = []
@@ -152,100 +216,95 @@ def build_view(model: EarlModel, cpp: CppView, msgs: MsgView, msg_target: MsgTar
         for template, bufs in by_template.items():
             member = definition["port_members"][template]
             port = ports[member]
-            msg_type, header, suffix = ros_msg(bufs[0].datatype, bufs[0].path)
+            msg_type, header, suffix = self._message(bufs[0].datatype, bufs[0].path)
             headers.add(header)
             for buf in sorted(bufs, key=lambda b: b.index):
                 access = f"data.{member}" + (f"[{buf.index - 1}]" if buf.index else "")
                 topic = topics.take(buf.name, buf.path)
-                n = len(elements)
                 elements.append({"kind": port["kind"], "access": access, "topic": topic, "type": port["type"],
-                                 "msg": msg_type, "suffix": suffix, "links": port["links"], "id": n,
+                                 "msg": msg_type, "suffix": suffix, "links": port["links"], "id": len(elements),
                                  # a queued input: roscpp keeps every message (0: no limit) and the
                                  # runtime's queue reports an overflow; roscpp would drop the oldest
-                                 "queue": 0 if port.get("queue", 0) else target.queue,
+                                 "queue": 0 if port.get("queue", 0) else self.target.queue,
                                  "template": template, "index": buf.index, "trace": buf.path,
                                  "topics": [topic] if port["links"] == 1 or port["kind"] == "ob"
                                  else [topics.take(f"{topic}_link{k + 1}", buf.path) for k in range(port["links"])]})
-        node = {"target": f"{package['name']}_{exe}", "exe": exe, "source": f"src/{exe}.cpp", "package": package["name"],
-                "cls": f"::{definition['ns']}::Subsystem",
-                "include": f"{model_ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp",
-                "path": cpp_string(sub.path), "comment": definition["comment"], "model_ns": model_ns, "trace": sub.path,
-                "headers": sorted(headers), "inputs": [e for e in elements if e["kind"] == "ib"],
-                "outputs": [e for e in elements if e["kind"] == "ob"], "period": target.period,
-                "queue": target.queue, "convert": f"{model_ns}/ros/convert.hpp",
-                "convert_ns": f"{model_ns}_ros", "model": cpp.system["model"]}
-        nodes.append(node)
-        node_of_block[definition["block_id"]] = node
-        package["nodes"].append(node)
+        return elements, headers
 
-    # instances and links
-    topic_of: dict[str, str] = {}
-    instance_of: dict[str, Data] = {}
-    for agent_view, agent in zip(cpp.agents, system.agents):
-        package = agent_of[agent_view["path"]]
-        node_names = _Scope("node", strict)
-        for instance_view, sub in zip(agent_view["instances"], agent.subsystems):
-            node = node_of_block[sub.block_id]
-            name = node_names.take(instance_view["member"], sub.path)
-            instance = {"name": name, "ns": package["ns"], "pkg": node["package"], "type": node["exe"],
-                        "path": sub.path, "remaps": [], "trace": sub.path}
-            if node["package"] != package["name"]:
-                package["depends"].add(node["package"])
-            package["instances"].append(instance)
-            instance_of[sub.path] = instance
-            by_end = {(e["template"], e["index"]): e for e in node["inputs"] + node["outputs"]}
-            for buf in sub.buffers:
-                element = by_end[(buf.template, buf.index)]
-                topic_of[buf.path] = f"/{package['ns']}/{name}/{element['topic']}"
-    used: dict[str, int] = {}
-    counts: dict[tuple[str, str], int] = {}  # (instance path, topic) -> links to wait for
-    links: list[Data] = []
-    for link in model.links:
-        if not link.source or not link.target or link.source not in topic_of or link.target not in topic_of:
-            raise GenError(f"{link.path}: a link goes from an Output Buffer to an Input Buffer (rule C001)")
-        target_sub = model.subsystem_of(link.target)
-        assert target_sub is not None
-        instance = instance_of[target_sub.path]
-        node = node_of_block[target_sub.block_id]
-        buf = model.buffer(link.target)
-        assert buf is not None
-        element = next(e for e in node["inputs"] if (e["template"], e["index"]) == (buf.template, buf.index))
-        k = used.get(link.target, 0)
-        used[link.target] = k + 1
-        source = topic_of[link.source]
-        remap_from = f"/{instance['ns']}/{instance['name']}/{element['topics'][k]}"
-        instance["remaps"].append({"from": remap_from, "to": source, "link": link.name, "trace": link.path})
-        counts[(target_sub.path, element["topics"][k])] = 1
-        source_name = source.rpartition("/")[2]
-        source_sub = model.subsystem_of(link.source)
-        assert source_sub is not None
-        counts[(source_sub.path, source_name)] = counts.get((source_sub.path, source_name), 0) + 1
-        links.append({"name": link.name, "source": link.source, "target": link.target, "topic": source,
-                      "trace": link.path})
-    for package in packages:
-        package["depends"] = sorted(package["depends"])
-    for path, instance in instance_of.items():
-        instance["links"] = sorted((topic, n) for (p, topic), n in counts.items() if p == path)
+    # ------------------------------------------------------------------ node instances and links
 
-    structs: list[Data] = []
-    for t in cpp.system["types"]:
-        message = msg_names.get(t["key"])
-        if message is None:
-            continue
-        if t["kind"] == "enum":
-            structs.append({"kind": "enum", "cpp": f"::{model_ns}::types::{t['name']}",
-                            "msg": f"{msgs.package}::{message['name']}", "trace": t["key"]})
-            continue
-        fields = [{"cpp": f["name"], "msg": m["name"], "trace": f["trace"]}
-                  for f, m in zip(t["fields"], message["fields"])]
-        structs.append({"kind": "struct", "cpp": f"::{model_ns}::types::{t['name']}",
-                        "msg": f"{msgs.package}::{message['name']}", "fields": fields,
-                        "header": f"{msgs.package}/{message['name']}.h", "trace": t["key"]})
-    convert: Data = {"ns": f"{model_ns}_ros", "structs": structs, "model": cpp.system["model"],
-               "include": f"{model_ns}/types.hpp",
-               "headers": sorted({f"{msgs.package}/{m['name']}.h" for m in msgs.messages})}
-    system_data = {"model": cpp.system["model"], "msgs": msgs.package, "messages": [m["name"] for m in msgs.messages],
-                   "bringup": bringup, "stem": stem, "agents": packages, "links": links, "period": target.period,
-                   "nodes": len(instance_of)}
-    system_data["trace"] = cpp.system["trace"]
-    return RosView(system=system_data, packages=packages, nodes=nodes, convert=convert)
+    def _instances(self) -> None:
+        """One node instance per subsystem instance, in the launch file of its agent's package."""
+        for agent_view, agent in zip(self.cpp.agents, self.system.agents):
+            package = self.agent_of[agent_view["path"]]
+            node_names = _Scope("node", self.strict)
+            for instance_view, sub in zip(agent_view["instances"], agent.subsystems):
+                node = self.node_of_block[sub.block_id]
+                name = node_names.take(instance_view["member"], sub.path)
+                instance = {"name": name, "ns": package["ns"], "pkg": node["package"], "type": node["exe"],
+                            "path": sub.path, "remaps": [], "trace": sub.path}
+                if node["package"] != package["name"]:
+                    package["depends"].add(node["package"])
+                package["instances"].append(instance)
+                self.instance_of[sub.path] = instance
+                by_end = {(e["template"], e["index"]): e for e in node["inputs"] + node["outputs"]}
+                for buf in sub.buffers:
+                    element = by_end[(buf.template, buf.index)]
+                    self.topic_of[buf.path] = f"/{package['ns']}/{name}/{element['topic']}"
+            package["depends"] = sorted(package["depends"])
+
+    def _links(self) -> list[Data]:
+        """Every link: a remap of the input's topic onto the output's, and the link counts each node
+        instance waits for (``~<topic>_links``)."""
+        model, topic_of = self.model, self.topic_of
+        used: dict[str, int] = {}  # input buffer path -> its links remapped so far
+        counts: dict[tuple[str, str], int] = {}  # (instance path, topic) -> links to wait for
+        links: list[Data] = []
+        for link in model.links:
+            if not link.source or not link.target or link.source not in topic_of or link.target not in topic_of:
+                raise GenError(f"{link.path}: a link goes from an Output Buffer to an Input Buffer (rule C001)")
+            target_sub = model.subsystem_of(link.target)
+            assert target_sub is not None
+            instance = self.instance_of[target_sub.path]
+            node = self.node_of_block[target_sub.block_id]
+            buf = model.buffer(link.target)
+            assert buf is not None
+            element = next(e for e in node["inputs"] if (e["template"], e["index"]) == (buf.template, buf.index))
+            k = used.get(link.target, 0)
+            used[link.target] = k + 1
+            source = topic_of[link.source]
+            remap_from = f"/{instance['ns']}/{instance['name']}/{element['topics'][k]}"
+            instance["remaps"].append({"from": remap_from, "to": source, "link": link.name, "trace": link.path})
+            counts[(target_sub.path, element["topics"][k])] = 1
+            source_name = source.rpartition("/")[2]
+            source_sub = model.subsystem_of(link.source)
+            assert source_sub is not None
+            counts[(source_sub.path, source_name)] = counts.get((source_sub.path, source_name), 0) + 1
+            links.append({"name": link.name, "source": link.source, "target": link.target, "topic": source,
+                          "trace": link.path})
+        for path, instance in self.instance_of.items():
+            instance["links"] = sorted((topic, n) for (p, topic), n in counts.items() if p == path)
+        return links
+
+    # ------------------------------------------------------------------ conversions
+
+    def _convert(self) -> Data:
+        """The conversions between the model's C++ dataTypes and their messages."""
+        model_ns, package = self.model_ns, self.msgs.package
+        structs: list[Data] = []
+        for t in self.cpp.system["types"]:
+            message = self.messages.get(t["key"])
+            if message is None:
+                continue
+            if t["kind"] == "enum":
+                structs.append({"kind": "enum", "cpp": f"::{model_ns}::types::{t['name']}",
+                                "msg": f"{package}::{message['name']}", "trace": t["key"]})
+                continue
+            fields = [{"cpp": f["name"], "msg": m["name"], "trace": f["trace"]}
+                      for f, m in zip(t["fields"], message["fields"])]
+            structs.append({"kind": "struct", "cpp": f"::{model_ns}::types::{t['name']}",
+                            "msg": f"{package}::{message['name']}", "fields": fields,
+                            "header": f"{package}/{message['name']}.h", "trace": t["key"]})
+        return {"ns": f"{model_ns}_ros", "structs": structs, "model": self.cpp.system["model"],
+                "include": f"{model_ns}/types.hpp",
+                "headers": sorted({f"{package}/{m['name']}.h" for m in self.msgs.messages})}
