@@ -60,7 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     from earl_m2t.predicate import parse_predicate
     from earl_m2t.profile import load_profile
     from earl_m2t.read.safe_xml import parse_xml_file
-    from earl_m2t.read.xmi import index_tree
+    from earl_m2t.read.xmi_index import index_tree
 
     python_rules()
     catalogue()

@@ -16,8 +16,8 @@ from earl_m2t.output import OutputError, write_files
 from earl_m2t.profile import load_profile
 from earl_m2t.profile_export import FORMATS, ProfileExportError, profile_spec
 from earl_m2t.profile_export.render import export_profile, load_targets
+from earl_m2t.read.dialects import dialect_table
 from earl_m2t.read.loader import load_raw_model
-from earl_m2t.read.xmi import dialect_table
 from tests.support.papyrus_builder import EARL_EPACKAGE_ID, EARL_NS, EARL_PROFILE_ID
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -94,7 +94,7 @@ class DialectTable:
 
     def is_earl(self, uri: str, extra: frozenset[str] = frozenset()) -> bool:
         """Whether a stereotype namespace is the EARL profile's; ``extra`` holds the URIs a file
-        gives its EARL profile (see ``earl_profile_uris`` in :mod:`earl_m2t.read.xmi`)."""
+        gives its EARL profile (see ``earl_profile_uris`` in :mod:`earl_m2t.read.stereotype_applications`)."""
         uri = normalise_uri(uri)
         return uri in extra or any(uri.startswith(normalise_uri(p)) for p in self.earl_prefixes)
 

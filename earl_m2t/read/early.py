@@ -3,7 +3,7 @@
 lxml parses without holding the interpreter lock, so on a machine with a second core the parse
 of the file named on the command line costs no wall time while the interpreter imports the
 readers, the rules and the SAT solver (about 0.1 s). :func:`parsing_early` starts it in a
-thread; :func:`read_raw_model <earl_m2t.read.xmi.read_raw_model>` takes the tree with
+thread; :func:`read_raw_model <earl_m2t.read.xmi_index.read_raw_model>` takes the tree with
 :func:`take_parsed` (waiting for it) and indexes it as it would have indexed its own.
 
 The thread reads and parses exactly as the reader does (:mod:`earl_m2t.read.bounded`,

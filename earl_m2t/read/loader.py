@@ -1,4 +1,4 @@
-"""Reading a model file for the later stages: the file itself (:mod:`earl_m2t.read.xmi`) and
+"""Reading a model file for the later stages: the file itself (:mod:`earl_m2t.read.xmi_index`) and
 the other model files it references (:mod:`earl_m2t.read.resources`)."""
 
 from __future__ import annotations
@@ -6,7 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from earl_m2t.read.resources import follow_references
-from earl_m2t.read.xmi import RawModel, read_raw_model
+from earl_m2t.read.xmi import RawModel
+from earl_m2t.read.xmi_index import read_raw_model
 
 
 def load_raw_model(path: Path, dialect: str | None = None) -> RawModel:

@@ -39,7 +39,8 @@ from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
 from earl_m2t.read.bounded import is_under, roots_for, work_tree
 from earl_m2t.read.libraries import classify
-from earl_m2t.read.xmi import Element, RawModel, read_raw_model
+from earl_m2t.read.xmi import Element, RawModel
+from earl_m2t.read.xmi_index import read_raw_model
 from earl_m2t.resources import metamodel_path
 
 

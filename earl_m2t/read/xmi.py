@@ -1,13 +1,14 @@
-"""Stage 1: an XMI file as a dialect-neutral index over its XML tree.
+"""Stage 1: an XMI file as a dialect-neutral model over its XML tree.
 
-One pass over the tree indexes every element by ``xmi:id`` (skipping tool ``xmi:Extension``
-blocks) and collects stereotype applications; references are resolved afterwards, on demand,
-whichever of the four XMI encodings the tool used (IDREF attribute, IDREFS list, child with
-``xmi:idref``, child with ``href``).
+:class:`RawModel` holds the tree, the index of every element by ``xmi:id`` and the stereotype
+applications (built in one pass by :mod:`earl_m2t.read.xmi_index`, the applications read by
+:mod:`earl_m2t.read.stereotype_applications`), and answers the later stages' questions about
+an element: its UML type, its children, its location, its stereotypes, what the tool keeps
+about it. References are resolved on demand, whichever of the four XMI encodings the tool used
+(IDREF attribute, IDREFS list, child with ``xmi:idref``, child with ``href``).
 
 A ``.mdzip`` project (:mod:`earl_m2t.read.mdzip`) gives one or two documents (model and shared
-model), indexed as one model; every location names the member it comes from. Which tool wrote
-the file is decided by :mod:`earl_m2t.read.dialects`, from the tables of ``dialects.toml``.
+model), indexed as one model; every location names the member it comes from.
 
 Other model files the model references (``href="types.uml#id"``) are read by
 :mod:`earl_m2t.read.resources`, each into a model of its own; a reference into one resolves to
@@ -17,38 +18,25 @@ file's own ids, stereotypes and namespaces (its location names that file).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Protocol, TypeAlias
 
 from lxml import etree
 
-from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
+from earl_m2t.diagnostics import Diagnostic
 from earl_m2t.model.location import Location
-from earl_m2t.read.bounded import open_regular
-from earl_m2t.read.dialects import DialectTable, detect_dialect, dialect_table, normalise_uri
-from earl_m2t.read.early import take_parsed
+from earl_m2t.read.dialects import DialectTable, dialect_table
 from earl_m2t.read.extension import ExtensionIndex, in_connector_order
 from earl_m2t.read.libraries import classify
-from earl_m2t.read.mdzip import is_archive, read_model_members
-from earl_m2t.read.safe_xml import parse_xml_bytes, parse_xml_stream
-from earl_m2t.sysml2.files import is_sysml2
 
 Element: TypeAlias = etree._Element
 
 __all__ = [
-    "DialectTable",
     "Element",
     "ExternalRef",
     "RawModel",
     "StereotypeApplication",
-    "detect_dialect",
-    "dialect_table",
-    "index_documents",
-    "index_tree",
-    "normalise_uri",
-    "read_raw_model",
+    "namespace_of",
     "stereotype_key",
 ]
 
@@ -228,7 +216,7 @@ class RawModel:
     def owner(self, el: Element) -> Element | None:
         """The containing element; None at the top (the ``xmi:XMI`` wrapper is nobody's owner)."""
         parent = el.getparent()
-        if parent is None or (parent.getparent() is None and _namespace_of(parent) != self._home(el).uml_ns):
+        if parent is None or (parent.getparent() is None and namespace_of(parent) != self._home(el).uml_ns):
             return None
         return parent
 
@@ -380,257 +368,8 @@ class RawModel:
         return Location(self.file_of(el), line, 0, self.xmi_id(el))
 
 
-# -- loading -------------------------------------------------------------------------------------
-
-
-def read_raw_model(path: Path, dialect: str | None = None) -> RawModel:
-    """Read one XMI file or ``.mdzip`` project, leaving its references into other files unresolved."""
-    file = str(path)
-    if is_sysml2(path):
-        raise ModelReadError(file, "is SysML v2 text, not XMI")
-    early = take_parsed(path)  # parsed while the command was importing (earl_m2t.read.early)
-    if early is not None:
-        return index_tree(early.getroot(), file, dialect)
-    with open_regular(path) as stream:  # a regular file within the size limit, or an error
-        if is_archive(stream):
-            members = read_model_members(stream, file)
-            documents = [(parse_xml_bytes(m.data, m.file).getroot(), m.file) for m in members]
-            return index_documents(documents, dialect)
-        tree = parse_xml_stream(stream, file)
-    return index_tree(tree.getroot(), file, dialect)
-
-
-def index_tree(root: Element, file: str, dialect: str | None = None) -> RawModel:
-    """Build the id index and the stereotype table in one pass over the tree."""
-    return index_documents([(root, file)], dialect)
-
-
-@dataclass
-class _Document:
-    root: Element
-    file: str
-    xmi_ns: str
-    uml_ns: str
-    model_roots: list[Element]
-    applications: list[Element]  # root-level elements of other namespaces: stereotype applications
-
-
-def index_documents(documents: Sequence[tuple[Element, str]], dialect: str | None = None) -> RawModel:
-    """Index one model held in one or more documents (the first is the main one).
-
-    ``dialect`` overrides detection; detection looks at the first document only.
-    """
-    table = dialect_table()
-    docs = [_document(root, file, table) for root, file in documents]
-    main = docs[0]
-    model_roots = [top for doc in docs for top in doc.model_roots]
-    if not model_roots:
-        raise ModelReadError(main.file, "XMI file holds no UML model element", main.root.sourceline or 0)
-    if dialect is None:
-        dialect = detect_dialect(main.root, main.uml_ns, main.xmi_ns, _sample_ids(model_roots[0], main.xmi_ns))
-        if dialect not in table.titles:
-            known = table.dialect(dialect)
-            message = known.message if known is not None and known.message else f"{dialect} XMI is not supported"
-            raise ModelReadError(main.file, message, main.root.sourceline or 0)
-    elif dialect not in table.titles:
-        raise ModelReadError(main.file, f"unknown dialect '{dialect}' (known: {', '.join(table.names)})")
-
-    by_id: dict[str, Element] = {}
-    diagnostics: list[Diagnostic] = []
-    profile_applications: list[Element] = []
-    ext_tags = frozenset(f"{{{uri}}}Extension" for uri in _spellings(table.xmi_uris))
-    external_hrefs: list[tuple[Element, Element]] = []
-    for doc in docs:
-        id_attr = f"{{{doc.xmi_ns}}}id"
-        for top in doc.model_roots:
-            _index_subtree(top, id_attr, ext_tags, by_id, profile_applications, external_hrefs, diagnostics,
-                           doc.file)
-    raw = RawModel(main.file, main.root, dialect, main.xmi_ns, main.uml_ns, by_id, {}, model_roots, diagnostics,
-                   table, tuple((d.root, d.file) for d in docs), external_hrefs=external_hrefs)
-    raw.earl_uris = earl_profile_uris(raw, profile_applications)
-    kinds: dict[str, tuple[str, str, str]] = {}  # tag → (namespace, family, stereotype name)
-    name_attributes = table.stereotype_name_attributes
-    for doc in docs:
-        for top in doc.applications:
-            tag = top.tag
-            kind = kinds.get(tag)
-            if kind is None:
-                uri = _namespace_of(top)
-                kind = kinds[tag] = (uri, table.family(uri, raw.earl_uris), tag.rpartition("}")[2])
-            app = _stereotype_application(raw, top, kind, name_attributes)
-            if app is not None:
-                raw.stereotypes.setdefault(app.base_id, []).append(app)
-    return raw
-
-
-def _sample_ids(model: Element, xmi_ns: str) -> tuple[str, ...]:
-    """The ids of a model root and of its first packaged element, for detection by id shape."""
-    id_attr = f"{{{xmi_ns}}}id"
-    first = next(model.iterchildren("packagedElement"), None)
-    return (model.get(id_attr) or "", first.get(id_attr) or "" if first is not None else "")
-
-
-def _document(root: Element, file: str, table: DialectTable) -> _Document:
-    """Check one document's namespaces and split its top level into models and stereotype applications."""
-    nsmap = {uri: prefix for prefix, uri in (root.nsmap or {}).items() if uri}
-    xmi_ns = next((uri for uri in nsmap if normalise_uri(uri) in table.xmi_uris), "")
-    uml_ns = next((uri for uri in nsmap if table.is_uml(uri)), "")
-    root_uri = _namespace_of(root)
-    if any(normalise_uri(root_uri).startswith(normalise_uri(p)) for p in table.sysml_v2_prefixes):
-        raise ModelReadError(file, "SysML v2 XMI (.sysmlx) is not supported", root.sourceline or 0)
-    if not xmi_ns:
-        raise ModelReadError(
-            file, f"not an XMI file (root element <{etree.QName(root).localname}> has no XMI namespace)",
-            root.sourceline or 0,
-        )
-    if not uml_ns:
-        raise ModelReadError(file, "XMI file without a UML model (no UML namespace declared)", root.sourceline or 0)
-    model_roots: list[Element] = []
-    applications: list[Element] = []
-    top_level = [root] if root_uri == uml_ns else [c for c in root if isinstance(c.tag, str)]
-    kind_of_tag: dict[str, str] = {}  # a file has thousands of applications of a few stereotypes
-    for top in top_level:
-        kind = kind_of_tag.get(top.tag)
-        if kind is None:
-            top_uri = _namespace_of(top)
-            if normalise_uri(top_uri) in table.xmi_uris:
-                kind = "xmi"  # xmi:Documentation, and every root-level xmi:Extension (tool data, repeated ids)
-            else:
-                kind = "model" if top_uri == uml_ns else "application"
-            kind_of_tag[top.tag] = kind
-        if kind == "model":
-            model_roots.append(top)
-        elif kind == "application":
-            applications.append(top)
-    for model in model_roots:  # Enterprise Architect "XMI 2.1" writes them inside the uml:Model
-        for child in model:
-            uri = _namespace_of(child)
-            if uri and uri != uml_ns and normalise_uri(uri) not in table.xmi_uris:
-                applications.append(child)
-    return _Document(root, file, xmi_ns, uml_ns, model_roots, applications)
-
-
-def _spellings(uris: frozenset[str]) -> set[str]:
-    """The spellings a normalised namespace URI may have in a file (http/https, trailing '/')."""
-    found: set[str] = set()
-    for uri in uris:
-        for variant in (uri, "https://" + uri.removeprefix("http://")):
-            found.update((variant, variant + "/"))
-    return found
-
-
-def _index_subtree(
-    top: Element,
-    id_attr: str,
-    ext_tags: frozenset[str],
-    by_id: dict[str, Element],
-    profile_applications: list[Element],
-    external_hrefs: list[tuple[Element, Element]],
-    diagnostics: list[Diagnostic],
-    file: str,
-) -> None:
-    """One pass over a model root: the id index, the profile applications, and the elements
-    whose href leaves the file (references to other resources, followed later)."""
-    iterator = top.iter()
-    for el in iterator:
-        tag = el.tag
-        if tag in ext_tags:
-            # skip the tool's extension block entirely: its copies repeat model ids
-            for _ in el.iterdescendants():
-                next(iterator, None)
-            continue
-        href = el.get("href")
-        if href and href[0] != "#":
-            external_hrefs.append((top, el))
-        ref_id = el.get(id_attr)
-        if ref_id is None:
-            continue
-        if tag == "profileApplication":
-            profile_applications.append(el)
-        if ref_id in by_id:
-            diagnostics.append(
-                Diagnostic(
-                    "R002",
-                    Severity.WARNING,
-                    f"duplicate xmi:id '{ref_id}' on <{el.tag}> '{el.get('name') or ''}' "
-                    f"(first used on line {by_id[ref_id].sourceline})",
-                    Location(file, el.sourceline or 0, 0, ref_id),
-                    el.get("name") or ref_id,
-                )
-            )
-            continue
-        by_id[ref_id] = el
-
-
-def earl_profile_uris(raw: RawModel, profile_applications: list[Element]) -> frozenset[str]:
-    """The namespace URIs a file gives its EARL profile, beyond the fixed ones of dialects.toml.
-
-    A profile named EARL (``[earl] profile_names``), reached through a profileApplication or
-    defined in the file, contributes its ``URI`` attribute; one in another resource contributes
-    the resource its href names (MagicDraw writes a profile's href under its URI, as for
-    ``http://www.omg.org/spec/SysML/20181001/SysML.xmi#SysML``) and is known by name from the
-    referentPath beside the href.
-    """
-    names = raw.table.earl_profile_names
-    uris: set[str] = set()
-
-    def add(profile: Element) -> None:
-        uri = (profile.get("URI") or "").strip()
-        if uri and raw.name(profile).strip().lower() in names:
-            uris.add(normalise_uri(uri))
-
-    for application in profile_applications:
-        for target in raw.refs(application, "appliedProfile"):
-            if not isinstance(target, ExternalRef):
-                add(target)
-            elif target.name.lower() in names and "://" in target.resource:
-                resource = normalise_uri(target.resource)
-                uris.update((resource, resource.removesuffix(".xmi")))
-    for top in raw.model_roots:
-        for el in top.iter("packagedElement"):
-            if el.get("URI") and raw.uml_type(el) == "Profile":
-                add(el)
-    return frozenset(uris)
-
-
-def _stereotype_application(raw: RawModel, el: Element, kind: tuple[str, str, str],
-                            name_attributes: tuple[str, ...]) -> StereotypeApplication | None:
-    """The application ``el`` writes; ``kind`` is its tag's (namespace, family, stereotype name)."""
-    uri, family, name = kind
-    base_id = ""
-    tags: dict[str, str] = {}
-    for key, value in el.items():
-        if key.startswith("base_"):
-            base_id = value
-        elif key in name_attributes:
-            name = value.strip() or name
-        elif not key.startswith("{"):
-            tags[key] = value
-    has_children = len(el) > 0
-    if not base_id and has_children:
-        for child in el:
-            if isinstance(child.tag, str) and child.tag.startswith("base_"):
-                base_id = next(
-                    (v for k, v in child.attrib.items() if k.endswith("}idref")), ""
-                ) or raw.local_fragment(child.get("href") or "")
-    if not base_id:
-        return None
-    if has_children:
-        idref_attr = raw._idref_attr
-        for child in el:
-            child_tag = child.tag
-            if not isinstance(child_tag, str) or child_tag.startswith(("{", "base_")):
-                continue
-            href = child.get("href")
-            value = child.get(idref_attr) or (raw.local_fragment(href) or href.replace(" ", "%20") if href else "")
-            value = value or (child.text or "").strip()
-            if value:
-                previous = tags.get(child_tag)
-                tags[child_tag] = f"{previous} {value}" if previous else value
-    return StereotypeApplication(uri, family, name, base_id, tags, el.sourceline or 0)
-
-
-def _namespace_of(el: Element) -> str:
+def namespace_of(el: Element) -> str:
+    """The namespace URI of an element's tag ("" for none)."""
     tag = el.tag
     if isinstance(tag, str) and tag.startswith("{"):
         return tag[1:].partition("}")[0]

@@ -13,7 +13,8 @@ from pathlib import Path
 from earl_m2t.diagnostics import Diagnostic, ModelReadError, Severity
 from earl_m2t.model.location import Location
 from earl_m2t.profile import load_profile
-from earl_m2t.read.xmi import RawModel, index_tree
+from earl_m2t.read.xmi import RawModel
+from earl_m2t.read.xmi_index import index_tree
 from earl_m2t.shorten import shortened_words
 from earl_m2t.sysml2.parser import Sysml2SyntaxError, parse_file
 from earl_m2t.sysml2.subset import Outside, outside_constructs

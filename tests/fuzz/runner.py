@@ -97,7 +97,7 @@ def seed_files(max_bytes: int | None = None) -> list[Path]:
 
 def seed_dialect(path: Path) -> str:
     from earl_m2t.diagnostics import ModelReadError
-    from earl_m2t.read.xmi import read_raw_model
+    from earl_m2t.read.xmi_index import read_raw_model
 
     if path.name.lower().endswith(".sysml"):
         return "sysml-v2"

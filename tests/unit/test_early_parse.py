@@ -13,7 +13,7 @@ from earl_m2t.api import check, load
 from earl_m2t.diagnostics import ModelReadError
 from earl_m2t.read.bounded import ReadPolicy, reading_with
 from earl_m2t.read.early import parsing_early, still_parsing, take_parsed
-from earl_m2t.read.xmi import read_raw_model
+from earl_m2t.read.xmi_index import read_raw_model
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -7,8 +7,9 @@ from pathlib import Path
 import pytest
 
 from earl_m2t.diagnostics import ModelReadError
+from earl_m2t.read.dialects import normalise_uri
 from earl_m2t.read.loader import load_raw_model
-from earl_m2t.read.xmi import ExternalRef, normalise_uri
+from earl_m2t.read.xmi import ExternalRef
 
 HEADER = (
     '<?xml version="1.0" encoding="UTF-8"?>\n'
