@@ -89,8 +89,8 @@ class ConditionLifter:
     def __init__(self, datatypes: Mapping[str, DataType]) -> None:
         self.datatypes = datatypes  # the model's, complete for every type a buffer or memory names
         self._scopes: dict[tuple[object, ...], Scope] = {}
-        # what a text means in a scope, for the subsystems alike: (expr, expanded, problems)
-        self._resolved: dict[tuple[Scope, str, ConditionRole], tuple[Expr | None, Expr | None, RelativeProblems]] = {}
+        # what a text that parses means in a scope, for the subsystems alike: (expr, expanded, problems)
+        self._resolved: dict[tuple[Scope, str], tuple[Expr, Expr, RelativeProblems]] = {}
 
     def scope(self, buffers: Iterable[Buffer], memory: Iterable[Memory],
               predicates: Iterable[PrimitivePredicate]) -> Scope:
@@ -122,21 +122,22 @@ class ConditionLifter:
         """``condition`` with its expression, expansion and problems in ``scope``."""
         if condition is None:
             return None
-        key = (scope, condition.text, condition.role)
+        where = condition.location
+        key = (scope, condition.text)
         known = self._resolved.get(key)
         if known is None:
-            known = self._resolved[key] = self._resolve_text(condition.text, condition.role, scope)
+            expr, problem = _parse_text(condition.text, condition.role)
+            if expr is None:  # a syntax problem, worded after the condition's role
+                assert problem is not None
+                return Condition(condition.text, condition.language, where, condition.owner, condition.role,
+                                 problems=(_placed(problem, where),))
+            known = self._resolved[key] = self._resolve_expr(expr, scope)
         expr, expanded, relative = known
-        where = condition.location
+        problems = tuple(_placed(problem, where) for problem in relative) if relative else ()
         return Condition(condition.text, condition.language, where, condition.owner, condition.role, expr, expanded,
-                         tuple(_placed(problem, where) for problem in relative))
+                         problems)
 
-    def _resolve_text(self, text: str, role: ConditionRole,
-                      scope: Scope) -> tuple[Expr | None, Expr | None, RelativeProblems]:
-        expr, problem = _parse_text(text, role)
-        if expr is None:
-            assert problem is not None
-            return None, None, (problem,)
+    def _resolve_expr(self, expr: Expr, scope: Scope) -> tuple[Expr, Expr, RelativeProblems]:
         expanded = expand_replicated(expr, lambda node: scope.replication_count(node) or None)
         found = ReferenceChecker(scope, self.datatypes).problems(expr)
         return expr, expanded, tuple((ProblemKind.REFERENCE, message, line, column) for message, line, column in found)
