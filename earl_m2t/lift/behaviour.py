@@ -23,6 +23,7 @@ from earl_m2t.model.elements import (
     Transition,
 )
 from earl_m2t.model.kinds import AccessMode
+from earl_m2t.model.location import Location
 from earl_m2t.model.naming import stem, suffix
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
@@ -48,12 +49,18 @@ class BehaviourContext:
     inputs: tuple[Buffer, ...]
     outputs: tuple[Buffer, ...]
     memory: tuple[Memory, ...]
-    # a condition of the FSM or a basic behaviour, resolved in the subsystem
-    resolve: Callable[[Condition | None], Condition | None] = lambda condition: condition
+    # makes a condition of the FSM or a basic behaviour (text, language, location, owner, role),
+    # resolved in the subsystem
+    make_condition: ConditionMaker = Condition
 
 
-def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: ConditionRole) -> Condition | None:
-    """The predicate text of a Constraint (or an expression / opaque behaviour) in the EARL language."""
+ConditionMaker = Callable[[str, str, Location, str, ConditionRole], Condition]
+
+
+def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: ConditionRole,
+                 make: ConditionMaker = Condition) -> Condition | None:
+    """The predicate text of a Constraint (or an expression / opaque behaviour) in the EARL
+    language, made a condition by ``make``."""
     if constraint is None:
         return None
     spec = constraint
@@ -63,15 +70,15 @@ def condition_of(raw: RawModel, constraint: Element | None, owner: str, role: Co
             ref = raw.ref(constraint, "specification")
             specs = [ref] if ref is not None and not isinstance(ref, ExternalRef) else []
         if not specs:
-            return Condition("", "", raw.location(constraint), owner, role)
+            return make("", "", raw.location(constraint), owner, role)
         spec = specs[0]
     bodies = raw.opaque_bodies(spec)
     if not bodies and spec.get("value") is not None:  # a LiteralBoolean / LiteralString guard
         bodies = [("", spec.get("value") or "")]
     if not bodies:
-        return Condition("", "", raw.location(spec), owner, role)
+        return make("", "", raw.location(spec), owner, role)
     language, body = next(((lang, b) for lang, b in bodies if lang.strip().lower() in PREDICATE_LANGUAGES), bodies[0])
-    return Condition(body.strip(), language, raw.body_location(spec), owner, role)
+    return make(body.strip(), language, raw.body_location(spec), owner, role)
 
 
 class BehaviourLifter:
@@ -253,7 +260,7 @@ class BehaviourLifter:
         if guard is None or isinstance(guard, ExternalRef):
             inline = raw.children(tr, "guard")
             guard = inline[0] if inline else None
-        condition = self.ctx.resolve(condition_of(raw, guard, path, ConditionRole.IC))
+        condition = condition_of(raw, guard, path, ConditionRole.IC, self.ctx.make_condition)
         priority = 0
         tags = self.ctx.recogniser.tags(tr)
         if "priority" in tags:
@@ -297,8 +304,8 @@ class BehaviourLifter:
             role = CONDITION_NAMES.get(raw.name(owned).strip().lower().replace(" ", ""))
             if role and role not in rules:
                 rules[role] = owned
-        tc = self.ctx.resolve(condition_of(raw, rules.get("tc"), path, ConditionRole.TC))
-        ec = self.ctx.resolve(condition_of(raw, rules.get("ec"), path, ConditionRole.EC))
+        tc = condition_of(raw, rules.get("tc"), path, ConditionRole.TC, self.ctx.make_condition)
+        ec = condition_of(raw, rules.get("ec"), path, ConditionRole.EC, self.ctx.make_condition)
         stages, problems = self.stages(activity)
         return BasicBehaviour(name, path, tc, ec, stages, tuple(problems), raw.location(activity),
                               self.ctx.recogniser.recognise(activity).route or "position")

@@ -122,20 +122,23 @@ class ConditionLifter:
         """``condition`` with its expression, expansion and problems in ``scope``."""
         if condition is None:
             return None
-        where = condition.location
-        key = (scope, condition.text)
+        return self.make(condition.text, condition.language, condition.location, condition.owner, condition.role,
+                         scope)
+
+    def make(self, text: str, language: str, where: Location, owner: str, role: ConditionRole,
+             scope: Scope) -> Condition:
+        """The condition written so, with its expression, expansion and problems in ``scope``."""
+        key = (scope, text)
         known = self._resolved.get(key)
         if known is None:
-            expr, problem = _parse_text(condition.text, condition.role)
+            expr, problem = _parse_text(text, role)
             if expr is None:  # a syntax problem, worded after the condition's role
                 assert problem is not None
-                return Condition(condition.text, condition.language, where, condition.owner, condition.role,
-                                 problems=(_placed(problem, where),))
+                return Condition(text, language, where, owner, role, problems=(_placed(problem, where),))
             known = self._resolved[key] = self._resolve_expr(expr, scope)
         expr, expanded, relative = known
         problems = tuple(_placed(problem, where) for problem in relative) if relative else ()
-        return Condition(condition.text, condition.language, where, condition.owner, condition.role, expr, expanded,
-                         problems)
+        return Condition(text, language, where, owner, role, expr, expanded, problems)
 
     def _resolve_expr(self, expr: Expr, scope: Scope) -> tuple[Expr, Expr, RelativeProblems]:
         expanded = expand_replicated(expr, lambda node: scope.replication_count(node) or None)

@@ -288,7 +288,7 @@ class StructureLifter:
         lifter = BehaviourLifter(ctx)
         predicates = lifter.predicates(block)
         scope = self.conditions.scope(inputs + outputs, memory, predicates)
-        ctx.resolve = partial(self.conditions.resolve, scope=scope)
+        ctx.make_condition = partial(self.conditions.make, scope=scope)
         predicates = self.conditions.resolve_predicates(predicates, scope)
         machines = lifter.state_machines(block)
         fsm: Fsm | None = None
