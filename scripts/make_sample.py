@@ -5,7 +5,8 @@ Section 3) with N = 6 joints, following ``docs/modelling-guide.md``: an EARL ste
 every EARL element, names with the paper's suffixes, Tables 4-7 for the manipulator's
 control subsystem. The content is built once, by the functions below, against the builder
 interface that ``tests/support/papyrus_builder.py``, ``cameo_builder.py`` and
-``ea_builder.py`` share; each builder writes it the way its tool saves a model:
+``ea_builder.py`` share (``tests/support/sample_kit.py``); each builder writes it the way its
+tool saves a model:
 
 - ``pick_and_place.uml``: Eclipse Papyrus 6.x with SysML 1.6 (Eclipse UML2 5.x XMI);
 - ``pick_and_place.cameo.xmi``: Cameo Systems Modeler 2022x native project XMI (the
@@ -28,19 +29,31 @@ from __future__ import annotations
 
 import re
 import sys
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, NamedTuple, Protocol
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from tests.support import cameo_builder, ea_builder, papyrus_builder  # noqa: E402
+from tests.support.sample_kit import (  # noqa: E402
+    DIALECTS,
+    Block,
+    Package,
+    inter_agent_link,
+    link,
+    single_state,
+)
 
 N_JOINTS = 6
 SAMPLE_DIR = ROOT / "samples" / "pick_and_place"
 SAMPLE = SAMPLE_DIR / "pick_and_place.uml"
+FILES = {
+    "papyrus": SAMPLE,
+    "cameo": SAMPLE_DIR / "pick_and_place.cameo.xmi",
+    "ea": SAMPLE_DIR / "pick_and_place.ea.xml",
+}
 VARIANT_DIR = SAMPLE_DIR / "variants"
 ESTOP_LATCHES = "[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)"
 
@@ -68,109 +81,6 @@ VARIANTS = {
     "pick_and_place.earl-mdg.ea.xml": EARL_MDG_NAMES,
     "pick_and_place.spsys.ea.xml": SPSYS_NAMES,
 }
-
-
-# ---- the builder interface the three dialects share ------------------------------------------
-
-
-class Property(Protocol):
-    """A port, part, value property or field."""
-
-    @property
-    def name(self) -> str | None: ...
-
-    @property
-    def type(self) -> Any: ...
-
-    def stereotype(self, name: str, tags: Mapping[str, Any] | None = ...) -> None: ...
-
-
-class Behavior(Protocol):
-    """A pf or pp."""
-
-    @property
-    def name(self) -> str | None: ...
-
-
-class Activity(Protocol):
-    def stages(self, stages: Sequence[Sequence[Any]]) -> Any: ...
-
-
-class State(Protocol):
-    @property
-    def name(self) -> str | None: ...
-
-    def do_activity(self, name: str | None = ..., tc: str | None = ..., ec: str | None = ...) -> Activity: ...
-    def stereotype(self, name: str, tags: Mapping[str, Any] | None = ...) -> None: ...
-
-
-class StateMachine(Protocol):
-    def state(self, name: str, initial: bool = ...) -> State: ...
-
-    def transition(self, source: Any, target: Any, guard: str | None = ..., name: str | None = ...,
-                   priority: int = ...) -> Any: ...  # fmt: skip
-
-
-class DataType(Protocol):
-    def field(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
-
-
-class Block(Protocol):
-    @property
-    def attributes(self) -> Sequence[Property]: ...
-
-    def comment(self, body: str) -> Any: ...
-    def part(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
-    def input_buffer(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
-    def output_buffer(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
-    def memory(self, name: str, type_: Any, multiplicity: Any = ...) -> Property: ...
-    def connector(self, name: str, source: Any, target: Any, stereotype: str | None = ...) -> Any: ...
-    def state_machine(self) -> StateMachine: ...
-    def primitive_predicate(self, name: str, body: str) -> Behavior: ...
-    def exclusion(self, name: str, predicates: Sequence[Any] = ..., body: str | None = ...) -> Any: ...
-    def buffer_group(self, name: str, obligatory: Sequence[Property] = ...,
-                     optional: Sequence[Property] = ...) -> Any: ...
-    def ltl_property(self, name: str, formula: str) -> Any: ...
-    def partial_transition_function(self, name: str, reads: Sequence[Any] = ..., writes: Sequence[Any] = ...,
-                                    body: str = ...) -> Behavior: ...  # fmt: skip
-
-
-class Package(Protocol):
-    def data_type(self, name: str) -> DataType: ...
-    def block(self, name: str, stereotype: str | None = ..., tags: Mapping[str, Any] | None = ...) -> Block: ...
-
-
-class ModelBuilder(Protocol):
-    def package(self, name: str) -> Package: ...
-    def comment(self, body: str) -> Any: ...
-    def to_bytes(self) -> bytes: ...
-
-
-class Dialect(NamedTuple):
-    """One tool's builder: how to start a model, make a connector end, name the primitive types."""
-
-    name: str
-    sample: Path
-    model_builder: Callable[..., ModelBuilder]
-    end_at: Callable[..., Any]
-    real: Any
-    boolean: Any
-
-
-DIALECTS: dict[str, Dialect] = {
-    "papyrus": Dialect(
-        "papyrus", SAMPLE, papyrus_builder.ModelBuilder, papyrus_builder.End.at,
-        papyrus_builder.REAL, papyrus_builder.BOOLEAN,
-    ),
-    "cameo": Dialect(
-        "cameo", SAMPLE_DIR / "pick_and_place.cameo.xmi", cameo_builder.ModelBuilder, cameo_builder.End.at,
-        cameo_builder.REAL, cameo_builder.BOOLEAN,
-    ),
-    "ea": Dialect(
-        "ea", SAMPLE_DIR / "pick_and_place.ea.xml", ea_builder.ModelBuilder, ea_builder.End.at,
-        ea_builder.REAL, ea_builder.BOOLEAN,
-    ),
-}  # fmt: skip
 
 # ---- the content ---------------------------------------------------------------------------------
 
@@ -234,12 +144,6 @@ class DataTypes:
         self.encoder_reading.field("position", real)
 
 
-def _single_state(block: Block, state: str, pf: Behavior) -> None:
-    """An FSM of one initial state whose behaviour runs ``pf`` and never terminates."""
-    fsm = block.state_machine()
-    fsm.state(state, initial=True).do_activity(tc="FALSE", ec="FALSE").stages([[pf]])
-
-
 def motor_controller(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Block:
     """A Virtual Effector regulating one motor: a PI current regulator on the encoder reading."""
     ve = pkg.block(name, "VirtualEffector")
@@ -255,7 +159,7 @@ def motor_controller(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Bl
         writes=[current, state, integral],
         body="// PI regulator: desired winding current from the position error; reports the motor state.",
     )
-    _single_state(ve, "regulate", pf)
+    single_state(ve, "regulate", pf)
     return ve
 
 
@@ -271,7 +175,7 @@ def motor(pkg: Package, dt: DataTypes, name: str, pf_name: str) -> Block:
         writes=[encoder, position],
         body="// Sets the winding current on the hardware and reads the encoder.",
     )
-    _single_state(re, "drive", pf)
+    single_state(re, "drive", pf)
     return re
 
 
@@ -430,25 +334,8 @@ def gripper_control(pkg: Package, dt: DataTypes) -> Block:
         writes=[status, finger_command],
         body="// Finger setpoint from the gripper command; gripper status from the finger state.",
     )
-    _single_state(cs, "operate", pf)
+    single_state(cs, "operate", pf)
     return cs
-
-
-def port(block: Block, name: str) -> Property:
-    """The port ``name`` of ``block``."""
-    return next(p for p in block.attributes if p.name == name)
-
-
-def link(agent: Block, source: tuple[Property, str], target: tuple[Property, str], end_at: Callable[..., Any]) -> None:
-    """An inter-subsystem link of ``agent`` from ``source`` to ``target``, each (part, port name)."""
-    (src_part, src_port), (dst_part, dst_port) = source, target
-    src_type, dst_type = src_part.type, dst_part.type
-    agent.connector(
-        f"{src_part.name},{dst_part.name}",
-        end_at(port(src_type, src_port), src_part),
-        end_at(port(dst_type, dst_port), dst_part),
-        "InterSubsystemLink",
-    )
 
 
 def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
@@ -521,13 +408,7 @@ def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
         ("task/a", "grip/a", "gripperCommand"),
         ("grip/a", "task/a", "gripperStatus"),
     ):
-        (src_cs, src_path), (dst_cs, dst_path) = ends[source], ends[target]
-        system.connector(
-            f"{source},{target}",
-            kit.end_at(port(src_cs, f"{message}/ob"), *src_path),
-            kit.end_at(port(dst_cs, f"{message}/ib"), *dst_path),
-            "InterAgentLink",
-        )
+        inter_agent_link(system, f"{source},{target}", ends[source], ends[target], message, kit.end_at)
     # The property `earl-m2t verify` proves (docs/verify.md): once manip/a.cs is in its
     # emergency stop, it stays there.
     system.ltl_property("estopLatches", ESTOP_LATCHES)
@@ -555,14 +436,14 @@ def main(argv: list[str] | None = None) -> int:
     if dialect not in DIALECTS:
         print(f"unknown dialect {dialect!r}; choose from {', '.join(DIALECTS)}", file=sys.stderr)
         return 2
-    jobs = [(dialect, Path(args[0]))] if args else [(name, kit.sample) for name, kit in DIALECTS.items()]
+    jobs = [(dialect, Path(args[0]))] if args else list(FILES.items())
     for name, target in jobs:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(build(dialect=name))
         print(f"wrote {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
     if not args:
         VARIANT_DIR.mkdir(exist_ok=True)
-        ea_xml = DIALECTS["ea"].sample.read_bytes()
+        ea_xml = FILES["ea"].read_bytes()
         for name, names in VARIANTS.items():
             (VARIANT_DIR / name).write_bytes(renamed_stereotypes(ea_xml, names))
             print(f"wrote {(VARIANT_DIR / name).relative_to(ROOT)}")

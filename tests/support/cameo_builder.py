@@ -478,10 +478,22 @@ class Block(Element):
     def buffer_group(self, name: str, obligatory: Sequence[Property] = (),
                      optional: Sequence[Property] = ()) -> Constraint:
         """A «BufferGroup» constraint whose tags name the obligatory and optional Input Buffers."""
+        return self._tagged_rule(name, "BufferGroup", {"obligatory": " ".join(p.name or "" for p in obligatory),
+                                                       "optional": " ".join(p.name or "" for p in optional)})
+
+    def configuration(self, name: str, agents: Sequence[str] = (), links: Sequence[str] = (),
+                      switch_timeout: float | str | None = None) -> Constraint:
+        """A «Configuration» constraint of a System block whose tags name the variable agents and
+        inter-agent links present in it (paths separated by spaces) and its ``switchTimeout`` (s)."""
+        tags: dict[str, str] = {"agents": " ".join(agents), "links": " ".join(links)}
+        if switch_timeout is not None:
+            tags["switchTimeout"] = str(switch_timeout)
+        return self._tagged_rule(name, "Configuration", tags)
+
+    def _tagged_rule(self, name: str, stereotype: str, tags: Mapping[str, str]) -> Constraint:
         rule = Constraint(self.builder, self, name, None)
         self.rules.append(rule)
-        rule.stereotype("BufferGroup", {"obligatory": " ".join(p.name or "" for p in obligatory),
-                                        "optional": " ".join(p.name or "" for p in optional)})
+        rule.stereotype(stereotype, tags)
         return rule
 
 
@@ -870,9 +882,11 @@ _MD_STEREOTYPES: dict[str, tuple[str, str, tuple[tuple[str, str, str], ...]]] = 
 # The EARL profile, in a used project ("EARL Profile.mdzip").
 _EARL_PROJECT_ID = str(uuid.UUID(hashlib.sha256(b"EARL Profile.mdzip").hexdigest()[:32], version=4))
 _EARL_PROJECT = f"local:/PROJECT-{_EARL_PROJECT_ID}{_SHARED}"
-_EARL_TAGS = {"Agent": ("declaredType",), "FsmTransition": ("priority",), "InputBuffer": ("receive", "queueSize"),
-              "FsmState": ("bufferGroup", "minPeriod", "firstTimeout", "nextTimeout"),
-              "BufferGroup": ("obligatory", "optional")}
+# The tags of its stereotypes; the stereotypesHREFS map lists those an application of the file sets.
+_EARL_TAGS = {"Agent": ("declaredType", "reactivation"), "FsmTransition": ("priority",),
+              "InputBuffer": ("receive", "queueSize"),
+              "FsmState": ("bufferGroup", "minPeriod", "firstTimeout", "nextTimeout", "configuration", "quiescent"),
+              "BufferGroup": ("obligatory", "optional"), "Configuration": ("agents", "links", "switchTimeout")}
 
 _USER = hashlib.sha256(b"earl-m2t sample").hexdigest()[:7]  # MagicDraw's per-installation id part
 _EPOCH_MS = 1_717_200_000_000  # 2024-06-01: ids carry creation times after this
@@ -989,12 +1003,13 @@ class _CameoWriter:
         for app in self.apps:
             if app.tag not in seen:
                 seen.append(app.tag)
+        set_tags = {(app.tag, attr) for app in self.apps for attr, _ in app.attrs}
         for tag in seen:
             if tag.startswith("EARL:"):
                 name = tag.split(":", 1)[1]
                 href = f"{_EARL_PROJECT}#{_earl_stereotype_id(name)}"
                 node.sub("stereotype", [("name", tag), ("stereotypeHREF", href)])
-                for tag_name in _EARL_TAGS.get(name, ()):
+                for tag_name in (t for t in _EARL_TAGS.get(name, ()) if (tag, t) in set_tags):
                     tag_id = _earl_tag_id(name, tag_name)
                     node.sub(
                         "tag",

@@ -112,7 +112,8 @@ EA_STYLE = XmlStyle(
 # Tags of the EARL profile with their default value (EA copies defaults into each application)
 # and the value list EA keeps in the tag's notes.
 _TAG_DEFAULTS = {("FsmTransition", "priority"): "0"}
-_TAG_NOTES = {("Agent", "declaredType"): "#NOTES#Values: C,CT,CE,CR,CET,CRT,CER,CERT&#xA;"}
+_TAG_NOTES = {("Agent", "declaredType"): "#NOTES#Values: C,CT,CE,CR,CET,CRT,CER,CERT&#xA;",
+              ("Agent", "reactivation"): "#NOTES#Values: restart,resume&#xA;"}
 
 
 def ea_guid(key: str) -> str:

@@ -135,6 +135,7 @@ EARL_STEREOTYPES: Mapping[str, str] = {
     "Exclusion": "Constraint",
     "BufferGroup": "Constraint",
     "LtlProperty": "Constraint",
+    "Configuration": "Constraint",
 }
 
 # Blocks of the EARL *Model* package used by the generalisation route.
@@ -822,13 +823,25 @@ class Block(Element):
                      optional: Sequence[Property] = ()) -> Constraint:
         """A «BufferGroup» constraint: the Input Buffers an iteration waits for and those it reads
         when new (tags holding the buffer names)."""
-        tags = {"obligatory": " ".join(p.name or "" for p in obligatory),
-                "optional": " ".join(p.name or "" for p in optional)}
-        # UML requires a Constraint's specification: the group in words (the tags are what counts)
-        body = "; ".join(f"{role}: {names}" for role, names in tags.items() if names)
+        return self._tagged_rule(name, "BufferGroup", {"obligatory": " ".join(p.name or "" for p in obligatory),
+                                                       "optional": " ".join(p.name or "" for p in optional)})
+
+    def configuration(self, name: str, agents: Sequence[str] = (), links: Sequence[str] = (),
+                      switch_timeout: float | str | None = None) -> Constraint:
+        """A «Configuration» constraint of a System block: the variable agents and inter-agent links
+        present in it (tags holding their paths, separated by spaces) and its ``switchTimeout`` in
+        seconds."""
+        tags: dict[str, str] = {"agents": " ".join(agents), "links": " ".join(links)}
+        if switch_timeout is not None:
+            tags["switchTimeout"] = str(switch_timeout)
+        return self._tagged_rule(name, "Configuration", tags)
+
+    def _tagged_rule(self, name: str, stereotype: str, tags: Mapping[str, str]) -> Constraint:
+        # UML requires a Constraint's specification: the tags in words (the tags are what counts)
+        body = "; ".join(f"{tag}: {value}" for tag, value in tags.items() if value)
         rule = Constraint(self.builder, self, name, body, "Natural language")
         self.rules.append(rule)
-        rule.stereotype("BufferGroup", tags)
+        rule.stereotype(stereotype, tags)
         return rule
 
     def _render(self, tag: str) -> _Node:
