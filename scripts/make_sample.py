@@ -44,6 +44,7 @@ from tests.support.sample_kit import (  # noqa: E402
     inter_agent_link,
     link,
     single_state,
+    write_dialects,
 )
 
 N_JOINTS = 6
@@ -430,24 +431,14 @@ def renamed_stereotypes(ea_xml: bytes, names: Mapping[str, tuple[str, str]]) -> 
 
 def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else list(argv)
-    dialect = "papyrus"
-    if args[:1] == ["--dialect"] and len(args) >= 2:
-        dialect, args = args[1], args[2:]
-    if dialect not in DIALECTS:
-        print(f"unknown dialect {dialect!r}; choose from {', '.join(DIALECTS)}", file=sys.stderr)
-        return 2
-    jobs = [(dialect, Path(args[0]))] if args else list(FILES.items())
-    for name, target in jobs:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(build(dialect=name))
-        print(f"wrote {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
-    if not args:
+    status = write_dialects(args, FILES, build, ROOT)
+    if status == 0 and not args:
         VARIANT_DIR.mkdir(exist_ok=True)
         ea_xml = FILES["ea"].read_bytes()
         for name, names in VARIANTS.items():
             (VARIANT_DIR / name).write_bytes(renamed_stereotypes(ea_xml, names))
             print(f"wrote {(VARIANT_DIR / name).relative_to(ROOT)}")
-    return 0
+    return status
 
 
 if __name__ == "__main__":

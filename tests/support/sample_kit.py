@@ -8,7 +8,9 @@ sample's content is written once and saved in each tool's dialect (:data:`DIALEC
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
 from typing import Any, NamedTuple, Protocol
 
 from tests.support import cameo_builder, ea_builder, papyrus_builder
@@ -29,6 +31,7 @@ __all__ = [
     "link",
     "port",
     "single_state",
+    "write_dialects",
 ]
 
 
@@ -180,3 +183,21 @@ def inter_agent_link(
         end_at(port(dst_cs, f"{message}/ib"), *dst_path),
         "InterAgentLink",
     )
+
+
+def write_dialects(args: Sequence[str], files: Mapping[str, Path], build: Callable[..., bytes], root: Path) -> int:
+    """The command line of a sample script: no argument writes every dialect's file of ``files``;
+    ``[--dialect papyrus|cameo|ea] OUTPUT`` writes one dialect (Papyrus by default) to ``OUTPUT``."""
+    args = list(args)
+    dialect = "papyrus"
+    if args[:1] == ["--dialect"] and len(args) >= 2:
+        dialect, args = args[1], args[2:]
+    if dialect not in files:
+        print(f"unknown dialect {dialect!r}; choose from {', '.join(files)}", file=sys.stderr)
+        return 2
+    jobs = [(dialect, Path(args[0]))] if args else list(files.items())
+    for name, target in jobs:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(build(dialect=name))
+        print(f"wrote {target.relative_to(root) if target.is_relative_to(root) else target}")
+    return 0
