@@ -1,9 +1,10 @@
-"""The reference sample, written by Papyrus, Cameo and Enterprise Architect, lifts to one EARL model.
+"""The samples, written by Papyrus, Cameo, Enterprise Architect and as SysML v2 text, lift to one EARL model.
 
-The three files of ``samples/pick_and_place/`` carry the same model (``scripts/make_sample.py``).
-Read by their dialects and lifted, they must give the same ``show --format json`` document,
-apart from what names the file (``file``, ``dialect``) and where things are in it (``line``,
-``xmi_id``), and each must check clean.
+The three XMI files of ``samples/pick_and_place/`` carry the same model (``scripts/make_sample.py``),
+and so do those of ``samples/two_arm/`` (``scripts/make_two_arm.py``); each sample's ``.sysml``
+says it by hand. Read by their dialects and lifted, a sample's files must give the same
+``show --format json`` document, apart from what names the file (``file``, ``dialect``) and
+where things are in it (``line``, ``xmi_id``), and each must check clean.
 
 The Enterprise Architect file says two things differently, and the reader takes them from
 where EA keeps them:
@@ -20,6 +21,7 @@ where EA keeps them:
 
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -35,12 +37,25 @@ FILES = {
     "cameo": SAMPLES / "pick_and_place.cameo.xmi",
     "ea": SAMPLES / "pick_and_place.ea.xml",
 }
-DIALECTS = {"papyrus": "papyrus", "cameo": "cameo", "ea": "enterprise-architect"}
+TWO_ARM = ROOT / "samples" / "two_arm"
+# every sample, by name: its file in each dialect (Papyrus first, the one the others are compared with)
+SAMPLE_FILES = {
+    "pick_and_place": {**FILES, "sysml": SAMPLES / "pick_and_place.sysml"},
+    "two_arm": {
+        "papyrus": TWO_ARM / "two_arm.uml",
+        "cameo": TWO_ARM / "two_arm.cameo.xmi",
+        "ea": TWO_ARM / "two_arm.ea.xml",
+        "sysml": TWO_ARM / "two_arm.sysml",
+    },
+}
+DIALECTS = {"papyrus": "papyrus", "cameo": "cameo", "ea": "enterprise-architect", "sysml": "sysml-v2"}
 WHERE = frozenset({"file", "dialect", "line", "xmi_id"})
+EVERY = [(sample, name) for sample, files in SAMPLE_FILES.items() for name in files]
+OTHERS = [(sample, name) for sample, name in EVERY if name != "papyrus"]
 
 
-def _present(name: str) -> Path:
-    path = FILES[name]
+def _present(name: str, sample: str = "pick_and_place") -> Path:
+    path = SAMPLE_FILES[sample][name]
     if not path.is_file():
         pytest.skip(f"{path.name} is not in the checkout")
     return path
@@ -55,13 +70,18 @@ def without_location(value: Any) -> Any:
     return value
 
 
-def lifted(name: str) -> dict[str, Any]:
-    return without_location(model_to_dict(load(_present(name)).model))
+def lifted(name: str, sample: str = "pick_and_place") -> dict[str, Any]:
+    return without_location(model_to_dict(load(_present(name, sample)).model))
+
+
+@cache
+def _papyrus(sample: str) -> dict[str, Any]:
+    return lifted("papyrus", sample)
 
 
 @pytest.fixture(scope="module")
 def papyrus() -> dict[str, Any]:
-    return lifted("papyrus")
+    return _papyrus("pick_and_place")
 
 
 def test_the_papyrus_sample_holds_the_whole_earl_model(papyrus: dict[str, Any]) -> None:
@@ -71,12 +91,18 @@ def test_the_papyrus_sample_holds_the_whole_earl_model(papyrus: dict[str, Any]) 
     assert len(system["links"]) == 4 and len(papyrus["datatypes"]) == 14
 
 
-def test_the_cameo_sample_lifts_to_the_papyrus_model(papyrus: dict[str, Any]) -> None:
-    assert lifted("cameo") == papyrus
+def test_the_two_arm_papyrus_sample_holds_both_arms_and_the_four_links() -> None:
+    two_arm = _papyrus("two_arm")
+    assert two_arm["earl"] is True and two_arm["model"] == "TwoArm"
+    (system,) = two_arm["systems"]
+    assert [agent["name"] for agent in system["agents"]] == ["manipA/a", "manipB/a", "task/a"]
+    assert [link["name"] for link in system["links"]] == [
+        "task/a,manipA/a", "manipA/a,task/a", "task/a,manipB/a", "manipB/a,task/a"]
 
 
-def test_the_enterprise_architect_sample_lifts_to_the_papyrus_model(papyrus: dict[str, Any]) -> None:
-    assert lifted("ea") == papyrus
+@pytest.mark.parametrize(("sample", "name"), OTHERS)
+def test_each_sample_lifts_to_its_papyrus_model(sample: str, name: str) -> None:
+    assert lifted(name, sample) == _papyrus(sample)
 
 
 def test_the_behaviour_languages_and_the_orders_compared_are_those_of_the_paper_sample(
@@ -94,11 +120,11 @@ def test_the_behaviour_languages_and_the_orders_compared_are_those_of_the_paper_
     assert links == ["task/a,manip/a", "manip/a,task/a", "task/a,grip/a", "grip/a,task/a"]
 
 
-@pytest.mark.parametrize("name", list(FILES))
-def test_each_sample_is_read_in_its_own_dialect(name: str) -> None:
-    assert load(_present(name)).model.dialect == DIALECTS[name]
+@pytest.mark.parametrize(("sample", "name"), EVERY)
+def test_each_sample_is_read_in_its_own_dialect(sample: str, name: str) -> None:
+    assert load(_present(name, sample)).model.dialect == DIALECTS[name]
 
 
-@pytest.mark.parametrize("name", list(FILES))
-def test_each_sample_checks_clean(name: str) -> None:
-    assert [str(d) for d in check(_present(name))] == []
+@pytest.mark.parametrize(("sample", "name"), EVERY)
+def test_each_sample_checks_clean(sample: str, name: str) -> None:
+    assert [str(d) for d in check(_present(name, sample))] == []
