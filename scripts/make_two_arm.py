@@ -1,7 +1,7 @@
 """Write the variable-structure sample ``samples/two_arm/`` in three tool dialects.
 
 A task agent hands a job over between two manipulators, again and again: the system's
-structure varies at run time (docs/variable-structure design, Sample 1). The general model
+structure varies at run time (the EARL paper's Dynamic Variability). The general model
 holds both manipulator agents, ``manipA/a`` and ``manipB/a`` (one block, multiplicity
 ``[0..1]``), and the four inter-agent links; the System block's two «Configuration»
 constraints, ``useA`` and ``useB``, say which manipulator and which links are present, and
@@ -62,9 +62,9 @@ MANIPULATOR_ACTIVATION = {"bufferGroup": "commands", "minPeriod": "0.0005", "fir
 # Conditions of manipX/a.cs: a command is new when it arrived and carries a seq beyond the last
 # one taken (task/a repeats its last command once it has finished).
 NEW_COMMAND = "newData(manipulatorCommand/ib.msg.seq) ∧ manipulatorCommand/ib.msg.seq > lastSeq/mi.data"
-MOVING_TC = "motionFinished/pp.fun ∨ newCommand/pp.fun"
-NEXT_COMMAND = "newCommand/pp.fun"
-STOP_MOVING = "¬newCommand/pp.fun"
+MOVING_TC = "motionFinished/pp.fun ∨ newCommand/pp.fun ∨ leaving()"
+NEXT_COMMAND = "newCommand/pp.fun ∧ ¬leaving()"
+STOP_MOVING = "leaving() ∨ ¬newCommand/pp.fun"
 
 
 class DataTypes:

@@ -100,6 +100,27 @@ def test_the_two_arm_papyrus_sample_holds_both_arms_and_the_four_links() -> None
         "task/a,manipA/a", "manipA/a,task/a", "task/a,manipB/a", "manipB/a,task/a"]
 
 
+def test_the_two_arm_sample_says_how_its_structure_varies() -> None:
+    """What every dialect must carry to be equal is there: the configurations, the optional
+    arms, the coordinator's configurations and the arms' quiescent state."""
+    (system,) = _papyrus("two_arm")["systems"]
+    assert [(c["name"], c["agents"], c["links"], c["switch_timeout"]) for c in system["configurations"]] == [
+        ("useA", ["manipA/a"], ["task/a,manipA/a", "manipA/a,task/a"], 0.05),
+        ("useB", ["manipB/a"], ["task/a,manipB/a", "manipB/a,task/a"], 0.05),
+    ]
+    agents = {agent["name"]: agent for agent in system["agents"]}
+    assert [name for name, agent in agents.items() if agent.get("optional")] == ["manipA/a", "manipB/a"]
+    assert {agents[arm]["reactivation"] for arm in ("manipA/a", "manipB/a")} == {"restart"}
+
+    def states(agent: str, key: str) -> dict[str, Any]:
+        return {state["name"]: state.get(key) for state in agents[agent]["subsystems"][0]["fsm"]["states"]}
+
+    assert states("task/a", "configuration") == {"withA": "useA", "withB": "useB", "finished": None}
+    assert states("manipA/a", "quiescent") == states("manipB/a", "quiescent") == {"idle": True, "moving": None}
+    guards = [t["condition"] for t in agents["manipA/a"]["subsystems"][0]["fsm"]["transitions"]]
+    assert sum("leaving()" in guard for guard in guards) == 2
+
+
 @pytest.mark.parametrize(("sample", "name"), OTHERS)
 def test_each_sample_lifts_to_its_papyrus_model(sample: str, name: str) -> None:
     assert lifted(name, sample) == _papyrus(sample)

@@ -363,6 +363,15 @@ def test_the_ea_file_has_enterprise_architect_s_shape(samples: dict[str, Sample]
     assert [child.tag for child in ext] == ["elements", "connectors", "primitivetypes"]
 
 
+@pytest.mark.parametrize("sample", SAMPLE_FILES)
+def test_the_ea_files_apply_stereotypes_of_the_ea_profile(every_sample: dict[tuple[str, str], Sample],
+                                                          sample: str) -> None:
+    found = every_sample[sample, "ea"]
+    earl = {etree.QName(app).localname for app in found.applications()
+            if etree.QName(app).namespace == ea_builder.EARL_NS}
+    assert earl and earl <= ea_profile_stereotypes()
+
+
 def ea_profile_stereotypes() -> set[str]:
     """The names of the stereotypes a modeller can apply from the generated EA profile."""
     ((_, data),) = export_profile("ea").items()
