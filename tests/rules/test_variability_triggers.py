@@ -66,7 +66,7 @@ def _coordinator_state(text: str, name: str, configuration: str) -> str:
 
 
 def _configuration(text: str, line: str) -> str:
-    end = text.index("\n", text.index(USE_B)) + 1
+    end = text.index("\n", text.index("metadata useB : Structure")) + 1
     return text[:end] + f"            {line}\n" + text[end:]
 
 
@@ -257,6 +257,71 @@ def zombie_in_configuration(text: str) -> Broken:
     return Broken(broken.text, broken.codes, "[configuration parked] agent task/a is a zombie")
 
 
+ARM = '''
+        part def ArmDriver :> VirtualEffector {
+            port 'joint/ib' : InputBuffer { attribute :>> msg : DataTypes::Command; }
+            port 'current/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }
+            action def 'drive/pf' { in 'joint/ib'; out 'current/ob'; language "C++" /* // Drives. */ }
+            state fsm {
+                entry; then drive;
+                state drive {
+                    do action 'drive/bb' {
+                        first start;
+                        then action drive : 'drive/pf';
+                        then done;
+                        constraint tc { false }
+                        constraint ec { false }
+                    }
+                }
+            }
+        }
+
+        part def ArmMotor :> RealEffector {
+            port 'current/ib' : InputBuffer { attribute :>> msg : DataTypes::Command; }
+            action def 'apply/pf' { in 'current/ib'; language "C++" /* // Applies the current. */ }
+            state fsm {
+                entry; then apply;
+                state apply {
+                    do action 'apply/bb' {
+                        first start;
+                        then action apply : 'apply/pf';
+                        then done;
+                        constraint tc { false }
+                        constraint ec { false }
+                    }
+                }
+            }
+        }
+'''
+
+
+def effector_chain_cut_in_configuration(text: str) -> Broken:
+    """C004: the manipulators get an arm (arm/ve, arm/re); manipA/a's link cs,arm/ve is named by useA
+    only, and a third configuration useAB, which holds manipA/a, leaves it out: arm/re is not reached
+    there."""
+    text = _edit(text, "            part cs : ManipulatorControl;\n", '''            part cs : ManipulatorControl;
+            part 'arm/ve' : ArmDriver;
+            part 'arm/re' : ArmMotor;
+            interface 'cs,arm/ve' : InterSubsystemLink connect cs.'joint/ob' to 'arm/ve'.'joint/ib';
+            interface 'arm/ve,arm/re' : InterSubsystemLink connect 'arm/ve'.'current/ob' to 'arm/re'.'current/ib';
+''')
+    text = _edit(text, "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n",
+                 "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
+                 "            port 'joint/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n")
+    writes = "                out 'status/ob';\n"
+    text = _edit(text, writes, writes + "                out 'joint/ob';\n")
+    task = "        part def TaskAgent :> Agent {"
+    text = _edit(text, task, ARM.lstrip("\n") + "\n" + task)
+    for agent in ("manipA/a", "manipB/a"):
+        links = f'links = "task/a,{agent} {agent},task/a'
+        text = _edit(text, links + '";', f'{links} {agent}.cs,arm/ve";')
+    text = _configuration(text, 'metadata useAB : Structure { agents = "manipA/a manipB/a"; '
+                                'links = "task/a,manipB/a manipB/a,task/a manipB/a.cs,arm/ve task/a,manipA/a '
+                                'manipA/a,task/a"; switchTimeout = 0.05; }')
+    return Broken(_coordinator_state(text, "withAB", "useAB"), frozenset({"C004"}),
+                  "[configuration useAB] real effector manipA/a.arm/re is not reached")
+
+
 VARIABILITY_VARIANTS: dict[str, Callable[[str], Broken]] = {
     "X001": unknown_agent,
     "X001-link": unknown_link,
@@ -281,6 +346,7 @@ VARIABILITY_VARIANTS: dict[str, Callable[[str], Broken]] = {
     "X013-fixed-agent": quiescent_in_fixed_agent,
     "S002-configuration": robot_empty_in_configuration,
     "S006-configuration": zombie_in_configuration,
+    "C004-configuration": effector_chain_cut_in_configuration,
 }
 
 
@@ -318,3 +384,4 @@ def test_a_rule_per_configuration_is_ignored_by_its_code(tmp_path: Path) -> None
     path = _write(tmp_path, robot_empty_in_configuration(FIXTURE.read_text(encoding="utf-8")).text)
     findings = check(path, CheckOptions(ignore=frozenset({"S006"})))
     assert {d.code for d in findings} == {"S002"}, _describe(findings)
+
