@@ -322,6 +322,29 @@ def effector_chain_cut_in_configuration(text: str) -> Broken:
                   "[configuration useAB] real effector manipA/a.arm/re is not reached")
 
 
+def effector_coordinator(text: str) -> Broken:
+    """X003: task/a gets an arm (arm/ve, arm/re) whose virtual effector's only state names useA; the
+    control subsystem's states name none: the one coordinator is not a control subsystem."""
+    text = _edit(text, "            part cs : TaskControl;\n", '''            part cs : TaskControl;
+            part 'arm/ve' : ArmDriver;
+            part 'arm/re' : ArmMotor;
+            interface 'cs,arm/ve' : InterSubsystemLink connect cs.'joint/ob' to 'arm/ve'.'joint/ib';
+            interface 'arm/ve,arm/re' : InterSubsystemLink connect 'arm/ve'.'current/ob' to 'arm/re'.'current/ib';
+''')
+    text = _edit(text, "            port 'command/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n",
+                 "            port 'command/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n"
+                 "            port 'joint/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n")
+    writes = "                out 'sent/mo';\n"
+    text = _edit(text, writes, writes + "                out 'joint/ob';\n")
+    task = "        part def TaskAgent :> Agent {"
+    reconfigure_a = '@Reconfigure { configuration = "useA"; }'
+    text = _edit(text, task, ARM.lstrip("\n").replace("state drive {", "state drive { " + reconfigure_a) + "\n" + task)
+    with_a = "\n                    do action 'withA/bb'"
+    text = _edit(text, reconfigure_a + with_a, with_a)
+    text = _edit(text, '@Reconfigure { configuration = "useB"; }', "")
+    return Broken(text, frozenset({"X003"}), "subsystem task/a.arm/ve (ve) names configurations")
+
+
 VARIABILITY_VARIANTS: dict[str, Callable[[str], Broken]] = {
     "X001": unknown_agent,
     "X001-link": unknown_link,
@@ -329,6 +352,7 @@ VARIABILITY_VARIANTS: dict[str, Callable[[str], Broken]] = {
     "X002": dangling_link,
     "X003": two_coordinators,
     "X003-none": no_coordinator,
+    "X003-not-control": effector_coordinator,
     "X004": initial_state_without_configuration,
     "X004-unknown": unknown_configuration,
     "X005": coordinator_agent_absent,
