@@ -138,3 +138,36 @@ def test_the_promela_of_the_fixture_encodes_the_switch() -> None:
     # leaving manipA/a stops in its quiescent idle with its commands received
     assert "leaving0 && active0 && (st0 == 0) && q0 == 0 -> active0 = false" in text
     assert "timeout && switching" in text
+
+
+# the task waits for the manipulators' status in withB: status/ib, which both manipulators'
+# variable links deliver to, is counted per link; the manipulators restart when they join
+PER_LINK = [
+    ("            port 'status/ib' : InputBuffer { attribute :>> msg : DataTypes::Status; }\n",
+     "            port 'status/ib' : InputBuffer {\n"
+     "                attribute :>> msg : DataTypes::Status;\n"
+     "                @Receive { receive = ReceiveMode::queue; queueSize = 2; }\n"
+     "            }\n"
+     '            metadata statuses : Group { obligatory = "status/ib"; optional = ""; }\n'),
+    ('                    @Reconfigure { configuration = "useB"; }\n',
+     '                    @Reconfigure { configuration = "useB"; }\n'
+     '                    @Activation { bufferGroup = "statuses"; }\n'),
+    ("@AgentReactivation { reactivation = Reactivation::resume; }",
+     "@AgentReactivation { reactivation = Reactivation::restart; }"),
+]
+
+
+def test_an_input_of_two_variable_links_counts_per_link(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _variant(tmp_path, PER_LINK)
+    text = translate(load(path).model).text
+    assert "byte q2 = 0; /* task/a.cs.status/ib by manipA/a,task/a, up to 2 */" in text
+    assert "byte q3 = 0; /* task/a.cs.status/ib by manipB/a,task/a, up to 2 */" in text
+    assert "if :: (cfg == 0) && (!switching || nxt == 0) && (q2 + q3) < 2 -> q2++ :: else -> skip fi" in text
+    assert "if :: q2 > 0 -> q2-- :: q3 > 0 -> q3-- :: else -> skip fi" in text
+    assert "st0 = (active0 -> st0 : 0); q0 = (active0 -> q0 : 0); active0 = true" in text  # restarts
+
+    code = main(["verify", str(path), "--format", "json"])
+    result = json.loads(capsys.readouterr().out)
+    # withB waits for a status that manipB/a, waiting for a command, never sends
+    assert code == 1 and {f["code"] for f in result["findings"]} == {"V002"}
+    assert all(any(line.startswith(text) for line in result["proven"]) for text in PROVEN), result["proven"]

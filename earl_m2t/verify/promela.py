@@ -134,7 +134,7 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
     _write_processes(spec, bodies, lines)
     if rc is not None:
         lines.extend(switch_process(rc, _switch_view(model, spec)))
-    if spec.waits:
+    if spec.waits and not claim:  # a built-in check's search stops at its claim alone
         lines.extend(_watchdog(spec, tracked))
     for name, written in tokens.items():
         spec.formulas[name] = _formula(spec, written, watched)
