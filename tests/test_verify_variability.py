@@ -17,6 +17,8 @@ from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.location import Location
 from earl_m2t.verify.ltl import AgentAtom, ConfigAtom, LtlError, StateAtom, SwitchingAtom, tokens
 from earl_m2t.verify.promela import translate
+from earl_m2t.verify.run import Finding, TraceStep
+from earl_m2t.verify.sequence import counterexample_dot
 
 ROOT = Path(__file__).resolve().parents[1]
 FIXTURE = ROOT / "tests" / "fixtures" / "variability" / "handover.sysml"
@@ -73,7 +75,7 @@ def test_the_fixture_proves_the_switch_checks_and_its_exclusivity(capsys: pytest
     assert finding["code"] == "V005"
     whys = [step["by"] for step in finding["trace"]]
     assert any("the switch useA → useB begins, leaving: manipA/a" in why for why in whys), whys
-    assert any(why.startswith("the drain (quiescent in manipA/a.cs@idle") for why in whys), whys
+    assert any(why.startswith("the drain: quiescent in manipA/a.cs@idle") for why in whys), whys
     assert whys[-1] == "the switch useA → useB is done: manipB/a resumes"
 
 
@@ -87,10 +89,9 @@ def test_a_manipulator_stuck_with_commands_queued_loses_them(tmp_path: Path,
     assert "a switch can lose values on task/a,manip" in finding
     assert "ends by its timeout with" in finding and "@stuck, not quiescent" in finding
     trace = out.split(" counterexample:\n", 1)[1].split("\nproven:", 1)[0].splitlines()
-    assert "switching → timed out by the switch timeout (nothing else can move)" in trace[-3]
-    assert trace[-2].endswith("running → stopped by the switch timeout (stuck in " + trace[-2].split("(stuck in ")[1])
-    assert "@stuck)" in trace[-2]
-    assert "queued → cleared by the switch timeout (undelivered)" in trace[-1]
+    assert trace[-3].endswith("task/a.cs: switching → timed out by the switch timeout: nothing else can move")
+    assert "running → stopped by the switch timeout: stuck in manip" in trace[-2] and trace[-2].endswith("@stuck")
+    assert trace[-1].endswith("queued → cleared by the switch timeout: undelivered")
     assert any("→ stuck by moving,stuck/t" in line for line in trace)
     assert " V007 " not in out  # the loss is a switch its timeout ended: reported once
     assert "proven: exclusivity" in out
@@ -171,3 +172,14 @@ def test_an_input_of_two_variable_links_counts_per_link(tmp_path: Path, capsys: 
     # withB waits for a status that manipB/a, waiting for a command, never sends
     assert code == 1 and {f["code"] for f in result["findings"]} == {"V002"}
     assert all(any(line.startswith(text) for line in result["proven"]) for text in PROVEN), result["proven"]
+
+
+def test_a_counterexample_diagram_has_lifelines_for_the_agents_and_links_of_a_switch() -> None:
+    model = load(FIXTURE).model
+    trace = (TraceStep(1, "task/a.cs", "switching", "timed out", "the switch timeout: nothing else can move", ()),
+             TraceStep(2, "manipA/a", "running", "stopped", "the switch timeout: stuck in manipA/a.cs@moving", ()),
+             TraceStep(3, "task/a,manipA/a", "1 queued", "cleared", "the switch timeout: undelivered", ()))
+    finding = Finding("V006", "a switch can lose values", "task/a,manipA/a", Location("x.sysml", 1), trace)
+    dot = counterexample_dot(model, finding).decode()
+    assert '<font point-size="8" color="#5d6d7e"></font>' not in dot  # Graphviz rejects an empty line
+    assert "<b>manipA/a</b><br/>" in dot and ">agent</font>" in dot and ">link</font>" in dot

@@ -46,7 +46,7 @@ class SwitchReader:
     def event(self, kind: str, words: list[str]) -> SwitchEvent | None:
         if kind == "stop":
             self.running.discard(words[0])
-            why = f"the drain (quiescent{self._in(words)}, its inputs empty)"
+            why = f"the drain: quiescent{self._in(words)}, its inputs empty"
             return SwitchEvent(words[0], "running", "stopped", why)
         if kind == "open":
             return self._open(words)
@@ -54,14 +54,14 @@ class SwitchReader:
             target = int(words[0]) if words else self.rc.initial
             self.timed_out = (self.configuration, self.rc.structures[target].configuration.name)
             return SwitchEvent(self.rc.coordinator.path, "switching", "timed out",
-                               "the switch timeout (nothing else can move)")
+                               "the switch timeout: nothing else can move")
         if kind == "stuck":
             self.running.discard(words[0])
             self.stuck.append((words[0], self._state(words), self._why(words)))
-            return SwitchEvent(words[0], "running", "stopped", f"the switch timeout (stuck{self._in(words)})")
+            return SwitchEvent(words[0], "running", "stopped", f"the switch timeout: stuck{self._in(words)}")
         if kind == "lost" and len(words) == 2:
             self.lost.append((words[0], int(words[1])))
-            return SwitchEvent(words[0], f"{words[1]} queued", "cleared", "the switch timeout (undelivered)")
+            return SwitchEvent(words[0], f"{words[1]} queued", "cleared", "the switch timeout: undelivered")
         return None
 
     def _open(self, words: list[str]) -> SwitchEvent:
