@@ -65,12 +65,14 @@ def _property(text: str) -> LtlProperty:
 
 
 def test_the_fixture_proves_the_switch_checks_and_its_exclusivity(capsys: pytest.CaptureFixture[str]) -> None:
-    code = main(["verify", str(FIXTURE), "--format", "json", "--ltl", EXCLUSIVE, "--ltl", "[] !manipB/a@active"])
+    ends = "[] (switching -> <> !switching)"
+    code = main(["verify", str(FIXTURE), "--format", "json", "--ltl", EXCLUSIVE, "--ltl", ends,
+                 "--ltl", "[] !manipB/a@active"])
     result = json.loads(capsys.readouterr().out)
 
     assert code == 1 and result["not_proven"] == []
     assert all(any(line.startswith(text) for line in result["proven"]) for text in PROVEN), result["proven"]
-    assert f"{EXCLUSIVE} holds" in result["proven"]
+    assert f"{EXCLUSIVE} holds" in result["proven"] and f"{ends} holds" in result["proven"]
     (finding,) = result["findings"]  # manipB/a runs once a switch to useB is done
     assert finding["code"] == "V005"
     whys = [step["by"] for step in finding["trace"]]

@@ -7,7 +7,10 @@ state's obligatory inputs, receive them, send on every Output Buffer its behavio
 functions write, and take one of the state's outcomes. An iteration that would change nothing
 is left out (it only repeats a state already explored), so a system where no process can
 move is one where every subsystem waits or has nothing left to do: a watchdog process asserts
-then that nobody waits for an obligatory input.
+then that nobody waits for an obligatory input. A model with configurations adds the switch
+between them (switching.py, switch_process.py): iterations of a variable agent's subsystems
+while it runs, sends on a variable link while it is open, the coordinator's transitions to
+another configuration as the beginning of a switch.
 """
 
 from __future__ import annotations
@@ -70,6 +73,8 @@ class Specification:
     static: list[ProcessInfo] = field(default_factory=list)
     formulas: dict[str, str] = field(default_factory=dict)  # property name -> its Promela formula
     reconfiguration: Reconfiguration | None = None  # the variable structure, None for a fixed one
+    # lines that enter a state other than by a Step: the coordinator's, when a switch opens
+    entries: list[tuple[int, Subsystem, State]] = field(default_factory=list)
 
     def state_variable(self, subsystem_path: str) -> ProcessInfo | None:
         return next((p for p in self.processes if p.subsystem.path == subsystem_path), None)
@@ -133,7 +138,10 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
         lines.append(f"{prefix}byte {info.variable} = {initial}; /* {sub.path}: {names} */")
     _write_processes(spec, bodies, lines)
     if rc is not None:
-        lines.extend(switch_process(rc, _switch_view(model, spec)))
+        for item in switch_process(rc, _switch_view(model, spec)):
+            lines.append(item[0] if isinstance(item, tuple) else item)
+            if isinstance(item, tuple):
+                spec.entries.append((len(lines), rc.coordinator, item[1]))
     if spec.waits and not claim:  # a built-in check's search stops at its claim alone
         lines.extend(_watchdog(spec, tracked))
     for name, written in tokens.items():
@@ -289,8 +297,8 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
                 begin = "; ".join([*actions, *records, rc.begin(switch, target)])
                 body.append(f"  :: atomic {{ {guard} && cfg != {switch} -> {begin}; "
                             f"/* {state.name}: {label}, a switch begins */")
-                body.append((f'       {mark}; printf("{SWITCH_MARK} begin {info.states[target].configuration}\\n") }}',
-                             Step(sub, state, outcome, 0)))
+                # not a Step: the state is entered when the switch opens (Specification.entries)
+                body.append(f'       {mark}; printf("{SWITCH_MARK} begin {info.states[target].configuration}\\n") }}')
                 guard += f" && cfg == {switch}"
             body.append(f"  :: atomic {{ {guard} -> {effect}; /* {state.name}: {label} */")
             body.append((f"       {mark} }}", Step(sub, state, outcome, 0)))

@@ -126,6 +126,7 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
         assert fsm is not None
         entered = {fsm.initial} | {s.outcome.transition.target for s in taken
                                    if s.subsystem is sub and s.outcome.transition is not None}
+        entered |= {state.name for line, by, state in spec.entries if by is sub and line not in run.unreached}
         for state, outcomes in zip(info.states, info.outcomes):
             if state.name not in entered:
                 result.findings.append(Finding(

@@ -21,10 +21,13 @@ HEADER = (
 FOOTER = ("  od", "}")
 STOP = ("  :: atomic {{ {leaving} && {active}{quiet}{empty} -> {active} = false; "
         "printf(\"{mark} stop {path}{shown}\\n\"{state}) }}")
-OPEN = ("  :: atomic {{ switching && nxt == {number}{stopped} ->\n"
-        "       {effects};\n"
-        "       printf(\"{mark} open {name} %d %d\\n\", {coordinator}, pending);\n"
-        "       {coordinator} = pending; cfg = {number}; switching = false }}")
+OPEN = (  # one step per state of the coordinator naming the configuration: it enters that state
+    "  :: atomic {{ switching && nxt == {number} && pending == {state}{stopped} ->",
+    "       {effects};",
+    "       printf(\"{mark} open {name} %d {state}\\n\", {coordinator});",
+    "       {coordinator} = {state}; cfg = {number}; switching = false }}",
+)
+ENTERS = 2  # the line of OPEN that marks the state entered
 TIMEOUT = "  :: atomic {{ timeout && switching -> printf(\"{mark} timeout %d\\n\", nxt);"
 STUCK = "       if :: {leaving} && {active} -> printf(\"{mark} stuck {path}{shown}\\n\"{state});"
 LOST = ("         if :: {counter} > 0 -> printf(\"{mark} lost {label} %d\\n\", {counter}); lost = true "
@@ -52,13 +55,18 @@ class SwitchView:
                 if p.subsystem.agent == agent.agent.path and p.subsystem.kind == SubsystemKind.CS]
 
 
-def switch_process(rc: Reconfiguration, view: SwitchView) -> list[str]:
+def switch_process(rc: Reconfiguration, view: SwitchView) -> list[str | tuple[str, State]]:
+    """The process's lines; a line that enters a state of the coordinator comes with that state."""
     coordinator = view.processes.get(rc.coordinator.path)
     if coordinator is None or not coordinator.variable:
         return []
-    lines = [line.format(coordinator=rc.coordinator.path) for line in HEADER]
+    lines: list[str | tuple[str, State]] = [line.format(coordinator=rc.coordinator.path) for line in HEADER]
     lines += [_stop(agent, view) for agent in rc.agents]
-    lines += [_open(rc, number, view, coordinator.variable) for number in range(len(rc.structures))]
+    for number, structure in enumerate(rc.structures):
+        for index, state in enumerate(coordinator.states):
+            if state.configuration == structure.configuration.name:
+                opened = _open(rc, number, view, coordinator.variable, index)
+                lines += [(text, state) if k == ENTERS else text for k, text in enumerate(opened)]
     lines.append(TIMEOUT.format(mark=SWITCH_MARK))
     for agent in rc.agents:
         lines.append(STUCK.format(mark=SWITCH_MARK, leaving=agent.leaving, active=agent.active,
@@ -95,9 +103,10 @@ def _stop(agent: VariableAgent, view: SwitchView) -> str:
                        **_shown(agent, view))
 
 
-def _open(rc: Reconfiguration, number: int, view: SwitchView, coordinator: str) -> str:
+def _open(rc: Reconfiguration, number: int, view: SwitchView, coordinator: str, state: int) -> list[str]:
     """Once every agent the configuration lacks has stopped, it opens: a joining agent restarts
-    (from its initial states) or resumes, with its inputs empty."""
+    (from its initial states) or resumes, with its inputs empty, and the coordinator enters the
+    state that began the switch."""
     structure = rc.structures[number]
     stopped = "".join(f" && !{a.active}" for a in rc.agents if not structure.has_agent(a.agent.path))
     effects = []
@@ -112,5 +121,5 @@ def _open(rc: Reconfiguration, number: int, view: SwitchView, coordinator: str) 
                     for counter, _ in view.inputs.get(agent.agent.path, [])]
         effects.append(f"{agent.active} = true")
     effects += [f"{a.leaving} = false" for a in rc.agents]
-    return OPEN.format(number=number, stopped=stopped, effects="; ".join(effects), mark=SWITCH_MARK,
-                       name=structure.configuration.name, coordinator=coordinator)
+    return [line.format(number=number, stopped=stopped, effects="; ".join(effects), mark=SWITCH_MARK,
+                        name=structure.configuration.name, coordinator=coordinator, state=state) for line in OPEN]
