@@ -15,6 +15,7 @@ from earl_m2t.api import load
 from earl_m2t.cli.app import main
 from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.location import Location
+from earl_m2t.verify import spin
 from earl_m2t.verify.ltl import AgentAtom, ConfigAtom, LtlError, StateAtom, SwitchingAtom, tokens
 from earl_m2t.verify.promela import translate
 from earl_m2t.verify.run import Finding, TraceStep
@@ -185,3 +186,22 @@ def test_a_counterexample_diagram_has_lifelines_for_the_agents_and_links_of_a_sw
     dot = counterexample_dot(model, finding).decode()
     assert '<font point-size="8" color="#5d6d7e"></font>' not in dot  # Graphviz rejects an empty line
     assert "<b>manipA/a</b><br/>" in dot and ">agent</font>" in dot and ">link</font>" in dot
+
+
+def test_a_latest_input_of_two_variable_links_keeps_the_newest_value(tmp_path: Path) -> None:
+    latest = [(old, new.replace("                @Receive { receive = ReceiveMode::queue; queueSize = 2; }\n", ""))
+              for old, new in PER_LINK]
+    spec = translate(load(_variant(tmp_path, latest)).model)
+    assert "if :: (cfg == 0) && (!switching || nxt == 0) -> q2 = 1; q3 = 0 :: else -> skip fi" in spec.text
+    assert "q2 = 0; q3 = 0" in spec.text  # an iteration receives the one value
+    spin.build(tmp_path, spec.text, "pan", ("-DSAFETY",), 120)  # SPIN and the compiler accept it
+
+
+def test_leaving_is_false_in_an_agent_that_is_always_present(tmp_path: Path) -> None:
+    path = _variant(tmp_path, [('constraint tc { language "EARL" /* handOver/pp */ }',  # withA's
+                                'constraint tc { language "EARL" /* handOver/pp and leaving() */ }')])
+    spec = translate(load(path).model)
+    task = spec.text.split("/* task/a.cs */", 1)[1].split("active proctype", 1)[0]
+    assert "&& leaving" not in task and "&& !leaving" not in task  # its outcomes take leaving() false
+    assert "/* withA: goes on */" in task and "/* withA: withA,withB/t" not in task  # so withA never ends
+    assert "/* withB: withB,withA/t */" in task
