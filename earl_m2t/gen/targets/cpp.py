@@ -18,7 +18,8 @@ def _cpp_view(views: Views) -> CppView:
     capacities, executor = spec.get("capacities", {}), spec.get("executor", {})
     settings = CppTarget(types=dict(spec["types"]), string_capacity=int(capacities.get("string", 64)),
                          unbounded_capacity=int(capacities.get("unbounded_array", 16)),
-                         cycles=int(executor.get("cycles", 10)), period_ms=int(executor.get("period_ms", 1)))
+                         cycles=int(executor.get("cycles", 10)), period_ms=int(executor.get("period_ms", 1)),
+                         switch_timeout=float(executor.get("switch_timeout_ms", 50)) / 1000)
     return build_view(views.model, settings)
 
 
