@@ -540,6 +540,8 @@ class Switch {
 /// FSM and basic-behaviour loop (subsystem.hpp, same tables, same order of a step), plus
 ///   * membership of a variable agent: no iteration while the agent is stopped; the control
 ///     subsystem stops its agent at an iteration boundary once leaving, quiescent and drained;
+///     while leaving and drained, an event-driven subsystem waits for its minimal period only,
+///     not for its obligatory inputs (the links the switch closed bring nothing more);
 ///     on its first iteration after a reactivation, a subsystem restarts (FSM at its initial
 ///     state, Self::resetData(true)) or resumes (Self::resetData(false));
 ///   * the coordinator: a transition to a state naming another configuration starts a switch
@@ -687,6 +689,9 @@ class SwitchedSubsystem : public Component {
     if (a.obligatory == nullptr) return take(now);
     const Self& self = static_cast<const Self&>(*this);
     if ((self.*a.obligatory)()) return take(now);
+    // leaving, with every closed link into the agent empty: no input the switch closed will
+    // bring anything more, so the iterations that let the agent reach quiescence do not wait
+    if (leaving() && agent_->switch_ != nullptr && agent_->switch_->drained(*agent_)) return take(now);
     const std::int64_t timeout = entered_ ? a.firstTimeoutNs : a.nextTimeoutNs;
     if (timeout >= 0 && now >= waitStart_ + std::chrono::nanoseconds(timeout)) {
       ++timeouts_;

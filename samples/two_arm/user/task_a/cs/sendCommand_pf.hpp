@@ -24,13 +24,14 @@ class sendCommand_pf final : public sendCommand_pf_base {
   static constexpr std::int64_t kPerArm = 10;
 
   void execute() noexcept override {
-    if (sentToArm_mi() >= kPerArm) {
+    // the memory this pf writes is also what it reads (the _mo accessors)
+    if (sentToArm_mo() >= kPerArm) {
       sentToArm_mo() = 1;
-      handOvers_mo() = handOvers_mi() + 1;
+      handOvers_mo() += 1;
     } else {
-      sentToArm_mo() = sentToArm_mi() + 1;
+      sentToArm_mo() += 1;
     }
-    const std::int64_t seq = nextSeq_mi() + 1;
+    const std::int64_t seq = nextSeq_mo() + 1;
     nextSeq_mo() = seq;
     auto& command = manipulatorCommand_ob();
     command.seq = seq;
@@ -38,7 +39,7 @@ class sendCommand_pf final : public sendCommand_pf_base {
       command.jointPosSetpoint.q[j] = two_arm::setpoint(seq, j);
     }
     if (!two_arm::quiet()) {
-      std::printf("task/a.cs: sent seq %" PRId64 " to %s\n", seq, two_arm::kArms[handOvers_mi() % 2]);
+      std::printf("task/a.cs: sent seq %" PRId64 " to %s\n", seq, two_arm::kArms[handOvers_mo() % 2]);
     }
   }
 };
