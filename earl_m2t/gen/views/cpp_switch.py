@@ -54,11 +54,11 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
     index = {c.name: i for i, c in enumerate(system.configurations)}
     configurations = []
     for configuration in system.configurations:
-        present_agents, present_links = variability.present(system, configuration)
+        structure = variability.present(system, configuration)
         configurations.append({
             "name": cpp_string(configuration.name), "comment": cpp_comment(configuration.name),
-            "agents": _mask([p in present_agents for p in agent_paths]),
-            "links": _mask([p in present_links for p in link_paths]),
+            "agents": _mask([structure.has_agent(p) for p in agent_paths]),
+            "links": _mask([structure.has_link(p) for p in link_paths]),
             "timeout": _nanoseconds(configuration.switch_timeout, default_timeout),
         })
     states = []
