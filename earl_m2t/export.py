@@ -16,14 +16,17 @@ from earl_m2t.model.elements import (
     Agent,
     BasicBehaviour,
     Buffer,
+    Configuration,
     EarlModel,
     Fsm,
     Group,
     Link,
     Memory,
+    State,
     Subsystem,
     System,
 )
+from earl_m2t.model.kinds import Reactivation
 from earl_m2t.model.location import Location
 
 FORMAT_VERSION = 1
@@ -76,7 +79,32 @@ def _system(system: System) -> dict[str, Any]:
         "agents": [_agent(a) for a in system.agents],
         "links": [_link(link) for link in system.links],
         "groups": [_group(g) for g in system.groups],
+        **({"configurations": [_configuration(c) for c in system.configurations]} if system.configurations else {}),
     }
+
+
+def _configuration(configuration: Configuration) -> dict[str, Any]:
+    return {"name": configuration.name, "path": configuration.path, "agents": list(configuration.agents),
+            "links": list(configuration.links), "unknown_agents": list(configuration.unknown_agents),
+            "unknown_links": list(configuration.unknown_links),
+            "switch_timeout": _seconds(configuration.switch_timeout), **_where(configuration.location)}
+
+
+def _variability(agent: Agent) -> dict[str, Any]:
+    """An agent's variable-structure fields, only where they differ from a fixed structure's (so
+    the JSON of a model without configurations stays as it was)."""
+    if not agent.optional and agent.reactivation == Reactivation.RESTART:
+        return {}
+    return {"optional": agent.optional, "reactivation": agent.reactivation}
+
+
+def _state_variability(state: State) -> dict[str, Any]:
+    found: dict[str, Any] = {}
+    if state.configuration:
+        found["configuration"] = state.configuration
+    if state.quiescent:
+        found["quiescent"] = True
+    return found
 
 
 def _group(group: Group) -> dict[str, Any]:
@@ -92,6 +120,7 @@ def _agent(agent: Agent) -> dict[str, Any]:
         "robot": agent.robot or None,
         "type": agent.computed_type,
         "declared_type": agent.declared_type or None,
+        **_variability(agent),
         "recognised_by": agent.recognised_by,
         **_where(agent.location),
         "subsystems": [_subsystem(s) for s in agent.subsystems],
@@ -157,7 +186,8 @@ def _fsm(fsm: Fsm) -> dict[str, Any]:
         "initial": fsm.initial,
         **_where(fsm.location),
         "states": [{"name": s.name, "behaviour": s.behaviours[0] if len(s.behaviours) == 1 else None,
-                    "activation": _activation(s.activation), **_where(s.location)} for s in fsm.states],
+                    "activation": _activation(s.activation), **_state_variability(s), **_where(s.location)}
+                   for s in fsm.states],
         "transitions": [
             {"name": t.name, "source": t.source, "target": t.target, "condition": _condition(t.condition),
              "priority": t.priority, **_where(t.location)}

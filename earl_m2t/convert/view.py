@@ -21,6 +21,7 @@ from earl_m2t.model.elements import (
     Agent,
     BasicBehaviour,
     Buffer,
+    Configuration,
     EarlModel,
     Group,
     Link,
@@ -28,6 +29,7 @@ from earl_m2t.model.elements import (
     Subsystem,
     System,
 )
+from earl_m2t.model.kinds import Reactivation
 from earl_m2t.profile import load_profile
 from earl_m2t.profile_types import Profile
 
@@ -116,14 +118,14 @@ class _View:
         definition = self.block(system.name, "System")
         group_of = {member: group for group in system.groups for member in group.members}
         parts = [(r.location.line, f"part {quoted(r.name)} : {quoted(r.block)};") for r in system.robots]
-        parts += [(a.location.line, f"part {quoted(a.name)} : {quoted(a.block)};")
+        parts += [(a.location.line, f"part {quoted(a.name)} : {quoted(a.block)}{_optional(a)};")
                   for a in system.agents if not a.robot and a.path not in group_of]
         parts += [(g.location.line, f"part {quoted(g.name)} : {quoted(g.block)};")
                   for g in system.groups if g.owner == system.name]
         for robot in system.robots:
             robot_definition = self.block(robot.block, "Robot")
             if robot_definition is not None:
-                held = [(a.location.line, f"part {quoted(a.name)} : {quoted(a.block)};")
+                held = [(a.location.line, f"part {quoted(a.name)} : {quoted(a.block)}{_optional(a)};")
                         for a in system.agents if a.robot == robot.path and a.path not in group_of]
                 held += [(g.location.line, f"part {quoted(g.name)} : {quoted(g.block)};")
                          for g in system.groups if g.owner == robot.path]
@@ -139,6 +141,7 @@ class _View:
         ends = {b.path: self.system_end(agents[s.agent], group_of.get(s.agent), s, b.template)
                 for a in system.agents for s in a.subsystems for b in s.buffers}
         definition.lines.extend(self.links(system.links, ends, "InterAgentLink"))
+        definition.lines.extend(_configuration(c) for c in system.configurations)
 
     def agent_group(self, group: Group, members: list[Agent]) -> None:
         """An Agent Group's block: a part for each of its Agents."""
@@ -159,6 +162,8 @@ class _View:
             return
         if agent.declared_type:
             definition.lines.append(f"attribute :>> declaredType = AgentType::{agent.declared_type};")
+        if agent.reactivation != Reactivation.RESTART:
+            definition.lines.append(f"@AgentReactivation {{ reactivation = Reactivation::{agent.reactivation}; }}")
         group_of = {member: group for group in agent.groups for member in group.members}
         for template, subsystems in _grouped(agent.subsystems, lambda s: group_of.get(s.path) or s.template):
             group = group_of.get(subsystems[0].path)
@@ -271,7 +276,7 @@ class _View:
         return lines + ["}"]
 
     def state(self, subsystem: Subsystem, state: State, shared: set[str]) -> list[str]:
-        activation = _activation(state.activation)
+        activation = _activation(state.activation) + _state_variability(state)
         if not state.behaviours and not activation:
             return [f"state {quoted(state.name)};"]
         lines = [f"state {quoted(state.name)} {{"] + [f"    {line}" for line in activation]
@@ -414,6 +419,26 @@ def _activation(activation: Activation) -> list[str]:
         if value is not None:
             tags.append(f"{tag} = {value!r};")
     return [f"@Activation {{ {' '.join(tags)} }}"] if tags else []
+
+
+def _optional(agent: Agent) -> str:
+    return "[0..1]" if agent.optional else ""
+
+
+def _configuration(configuration: Configuration) -> str:
+    """``metadata useA : Structure { … }`` of a System: the names as the model gives them."""
+    tags = [f"agents = {_string(configuration.agents + configuration.unknown_agents)};",
+            f"links = {_string(configuration.links + configuration.unknown_links)};"]
+    if configuration.switch_timeout is not None:
+        tags.append(f"switchTimeout = {configuration.switch_timeout!r};")
+    return f"metadata {quoted(configuration.name)} : Structure {{ {' '.join(tags)} }}"
+
+
+def _state_variability(state: State) -> list[str]:
+    lines = []
+    if state.configuration:
+        lines.append(f"@Reconfigure {{ configuration = {_string_literal(state.configuration)}; }}")
+    return lines + (["@Quiescent;"] if state.quiescent else [])
 
 
 def _string_literal(text: str) -> str:

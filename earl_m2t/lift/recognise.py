@@ -13,6 +13,9 @@ from earl_m2t.stereotypes import Vocabulary
 
 # Package names that hold the EARL *Model* blocks a user model specialises (paper Fig. 1).
 MODEL_PACKAGE_NAMES = frozenset({"model", "earl", "earl model", "earlmodel", "earl::model"})
+# Metaclasses of concepts that no classifier specialises (UML Constraints and Connectors do not
+# generalise).
+UNSPECIALISABLE_METACLASSES = frozenset({"Constraint", "Connector"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,14 +72,20 @@ class Recogniser:
                     continue
                 if isinstance(general, ExternalRef):
                     concept = self._concept_named(general.fragment) or self._external_model_block_concept(general)
-                    if concept:
+                    if self._generalisable(concept):
                         return concept
                     continue
                 concept = self._model_block_concept(general)
-                if concept:
+                if self._generalisable(concept):
                     return concept
                 frontier.append(general)
         return ""
+
+    def _generalisable(self, concept: str) -> bool:
+        """True for a concept a classifier can specialise: not one applied to a Constraint or a
+        Connector (a model's own class named ``Configuration`` is no EARL configuration)."""
+        found = self.profile.concepts.get(concept) if concept else None
+        return found is not None and found.metaclass not in UNSPECIALISABLE_METACLASSES
 
     def _model_block_concept(self, el: Element) -> str:
         concept = self._concept_named(self.raw.name(el))

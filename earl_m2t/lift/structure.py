@@ -13,6 +13,7 @@ from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity
+from earl_m2t.lift.variability import configurations, is_optional, reactivation_of
 from earl_m2t.model.elements import (
     Agent,
     BasicBehaviour,
@@ -165,8 +166,10 @@ class StructureLifter:
             has_e = bool(agent.ve) and bool(agent.re)
             has_r = bool(agent.vr) and bool(agent.rr)
             final_agents.append(replace(agent, computed_type=computed_agent_type(has_e, has_r, has_t)))
+        every_link = [link for agent in final_agents for link in agent.links] + list(links)
         return System(name, name, tuple(robots), tuple(final_agents), tuple(links), self.raw.location(block),
-                      recognition.route or "structure", tuple(groups))
+                      recognition.route or "structure", tuple(groups),
+                      configurations(self.raw, self.recogniser, block, name, final_agents, every_link))
 
     def _agent_group(self, part: Element, block: Element, owner: str, robot: str, prefix: str,
                      groups: list[Group]) -> list[AgentInstance]:
@@ -228,7 +231,7 @@ class StructureLifter:
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()
         agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
                       declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix",
-                      tuple(groups))
+                      tuple(groups), is_optional(self.raw, part), reactivation_of(self.raw, tags))
         return AgentInstance(agent, part, robot_part, instances)
 
     def _subsystem_group(self, block: Element,

@@ -14,7 +14,15 @@ from functools import cached_property
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.directives import LtlProperty, Suppression
-from earl_m2t.model.kinds import AccessMode, Direction, GroupKind, LinkScope, ReceiveMode, SubsystemKind
+from earl_m2t.model.kinds import (
+    AccessMode,
+    Direction,
+    GroupKind,
+    LinkScope,
+    Reactivation,
+    ReceiveMode,
+    SubsystemKind,
+)
 from earl_m2t.model.location import Location
 from earl_m2t.model.scope import Scope
 
@@ -156,6 +164,8 @@ class State:
     behaviours: tuple[str, ...]  # bb names; exactly one is expected (B002)
     location: Location
     activation: Activation = Activation()
+    configuration: str = ""  # the configuration it names (a coordinator's state), "" for none
+    quiescent: bool = False  # its agent may be stopped by a switch while it is current
 
 
 @dataclass(frozen=True, slots=True)
@@ -311,6 +321,9 @@ class Agent:
     location: Location
     recognised_by: str
     groups: tuple[Group, ...] = ()  # Subsystem Groups
+    optional: bool = False  # its part's multiplicity is [0..1]: the general model may leave it out
+    # how a switch brings it back: a Reactivation, or the tag's value as written (a rule reports it)
+    reactivation: str = Reactivation.RESTART
 
     def of_kind(self, kind: SubsystemKind) -> tuple[Subsystem, ...]:
         return tuple(s for s in self.subsystems if s.kind == kind)
@@ -347,6 +360,27 @@ class Robot:
 
 
 @dataclass(frozen=True, slots=True)
+class Configuration:
+    """A particular structure of a variable-structure system (paper l.195–199): the variable
+    agents and links present while it holds. Agents and links that no configuration names are
+    always present."""
+
+    name: str
+    path: str  # system name + "." + name
+    agents: tuple[str, ...]  # paths of the agents it names that exist
+    links: tuple[str, ...]  # paths of the links it names that exist
+    unknown_agents: tuple[str, ...]  # names in its tag ``agents`` that are no agent, as written
+    unknown_links: tuple[str, ...]  # names in its tag ``links`` that are no link, as written
+    switch_timeout: float | None  # seconds; None when not given, NaN when unreadable
+    location: Location
+
+    @property
+    def unknown(self) -> tuple[str, ...]:
+        """Every name it gives that resolves to nothing."""
+        return self.unknown_agents + self.unknown_links
+
+
+@dataclass(frozen=True, slots=True)
 class System:
     name: str
     path: str
@@ -356,6 +390,10 @@ class System:
     location: Location
     recognised_by: str
     groups: tuple[Group, ...] = ()  # Agent Groups, in the system or in its robots
+    configurations: tuple[Configuration, ...] = ()  # its «Configuration» constraints, in model order
+
+    def configuration(self, name: str) -> Configuration | None:
+        return next((c for c in self.configurations if c.name == name), None)
 
 
 @dataclass(frozen=True)

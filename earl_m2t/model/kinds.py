@@ -44,6 +44,13 @@ class AccessMode(StrEnum):
     READWRITE = "readwrite"
 
 
+class Reactivation(StrEnum):
+    """How a variable agent comes back when a switch makes it present again (its tag ``reactivation``)."""
+
+    RESTART = "restart"  # from its initial FSM state, memory and inputs reset
+    RESUME = "resume"  # where it stopped: FSM state and memory kept, inputs empty
+
+
 class DataTypeKind(StrEnum):
     PRIMITIVE = "primitive"
     ENUMERATION = "enumeration"
@@ -52,3 +59,4 @@ class DataTypeKind(StrEnum):
 
 SUBSYSTEM_KINDS = tuple(SubsystemKind)
 RECEIVE_MODES = tuple(ReceiveMode)
+REACTIVATIONS = tuple(Reactivation)

@@ -9,6 +9,7 @@ mean the same tree.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any, Literal, TypeAlias
 
 from earl_m2t.model.naming import split
@@ -119,6 +120,21 @@ class NewData:
     column: int = _position()
 
 
+class BuiltInPredicate(StrEnum):
+    """The predicates the runtime answers, written ``name()``."""
+
+    LEAVING = "leaving"  # a switch that removes the subsystem's agent is pending
+
+
+@dataclass(frozen=True, slots=True)
+class BuiltIn:
+    """``leaving()``: a built-in predicate of the runtime."""
+
+    name: BuiltInPredicate
+    line: int = _position()
+    column: int = _position()
+
+
 @dataclass(frozen=True, slots=True)
 class Number:
     """A numeric literal; only an operand of a comparison."""
@@ -161,7 +177,7 @@ class Replicated:
 
 #: A boolean expression (usable with ``isinstance``).
 Expr: TypeAlias = (
-    Const | Not | And | Or | PredicateRef | FieldRef | NewData | Compare | Replicated
+    Const | Not | And | Or | PredicateRef | FieldRef | NewData | BuiltIn | Compare | Replicated
 )
 
 #: Any node of the tree (a :class:`Number` is not a boolean expression).

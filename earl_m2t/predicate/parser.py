@@ -19,6 +19,8 @@ from textx.exceptions import TextXError, TextXSyntaxError
 
 from earl_m2t.predicate.ast import (
     FIELD_SUFFIXES,
+    BuiltIn,
+    BuiltInPredicate,
     Compare,
     Const,
     Expr,
@@ -167,6 +169,8 @@ class _Builder:
         if kind == "NewData":
             ref = self.field(obj.ref, "newData(...) takes a buffer or memory")
             return NewData(ref, **self.at(obj))
+        if kind == "BuiltIn":
+            return BuiltIn(BuiltInPredicate(obj.name), **self.at(obj))
         if kind == "Constant":
             return Const(obj.value.lower() == "true", **self.at(obj))
         if kind == "NumberComparison":

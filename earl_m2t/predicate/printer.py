@@ -12,6 +12,7 @@ from earl_m2t.model.naming import split
 from earl_m2t.predicate.ast import (
     FIELD_SUFFIXES,
     And,
+    BuiltIn,
     Compare,
     Const,
     FieldRef,
@@ -133,6 +134,8 @@ class _Printer:
             return _field(node)
         if isinstance(node, NewData):
             return f"newData({_field(node.ref)})"
+        if isinstance(node, BuiltIn):
+            return f"{node.name}()"
         if isinstance(node, Compare):
             return f"{self.bare(node.left, True)} {node.op} {self.bare(node.right, followed)}"
         if isinstance(node, Number):

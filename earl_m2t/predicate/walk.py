@@ -8,6 +8,8 @@ from typing import Any
 
 from earl_m2t.predicate.ast import (
     And,
+    BuiltIn,
+    BuiltInPredicate,
     Compare,
     Const,
     Expr,
@@ -71,11 +73,13 @@ def evaluate(
     predicate_value: Callable[[PredicateRef], bool],
     field_value: Callable[[FieldRef], object],
     new_data: Callable[[FieldRef], bool],
+    built_in: Callable[[BuiltInPredicate], bool] = lambda name: False,
 ) -> bool:
     """The truth value of ``expr``, asking the callbacks for the values of references.
 
     ``field_value`` gives the value of a buffer or memory field (a field standing alone
-    counts by its truth value, e.g. a boolean flag); ``new_data`` answers ``newData(ref)``.
+    counts by its truth value, e.g. a boolean flag); ``new_data`` answers ``newData(ref)``,
+    ``built_in`` a built-in predicate such as ``leaving()`` (false unless given).
     And / Or short-circuit from left to right. Replications must have been expanded
     first (see ``expand_replicated``): a :class:`Replicated` raises ValueError.
     """
@@ -102,6 +106,8 @@ def evaluate(
             return bool(field_value(node))
         if isinstance(node, NewData):
             return bool(new_data(node.ref))
+        if isinstance(node, BuiltIn):
+            return bool(built_in(node.name))
         if isinstance(node, Compare):
             return bool(_COMPARE[node.op](value_of(node.left), value_of(node.right)))
         if isinstance(node, Replicated):

@@ -5,7 +5,8 @@ from __future__ import annotations
 from itertools import groupby
 
 from earl_m2t.model.datatypes import DataType
-from earl_m2t.model.elements import Activation, Buffer, EarlModel, Group, Link, Subsystem
+from earl_m2t.model.elements import Activation, Agent, Buffer, Configuration, EarlModel, Group, Link, State, Subsystem
+from earl_m2t.model.kinds import Reactivation
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:
@@ -38,7 +39,8 @@ def _outline(model: EarlModel) -> list[str]:
         for agent in system.agents:
             declared = f", declared {agent.declared_type}" if agent.declared_type else ""
             where = f" in {agent.robot}" if agent.robot else ""
-            lines.append(f"  agent {agent.name} [{agent.block}]{where}  type {agent.computed_type}{declared}")
+            lines.append(f"  agent {agent.name} [{agent.block}]{where}  type {agent.computed_type}{declared}"
+                         f"{_variability(agent)}")
             for _, group in groupby(agent.subsystems, key=lambda s: (s.block_id, s.template)):
                 instances = list(group)
                 lines.extend(_subsystem(instances))
@@ -50,6 +52,9 @@ def _outline(model: EarlModel) -> list[str]:
         if system.links:
             lines.append("  inter-agent links")
             lines.extend(_link(link, "    ") for link in system.links)
+        if system.configurations:
+            lines.append("  configurations")
+            lines.extend(_configuration(c, "    ") for c in system.configurations)
     if model.datatypes:
         lines.append("datatypes")
         lines.extend(_datatype(d) for d in model.datatypes.values())
@@ -78,7 +83,7 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
         out.append(f"{ind}fsm {fsm.name}  initial {fsm.initial or '?'}")
         for state in fsm.states:
             out.append(f"{ind}  state {state.name} → {', '.join(state.behaviours) or '(no behaviour)'}"
-                       f"{_activation(state.activation)}")
+                       f"{_activation(state.activation)}{_state_variability(state)}")
         for tr in fsm.transitions:
             condition = tr.condition.text if tr.condition is not None else "TRUE"
             priority = f"  priority {tr.priority}" if tr.priority else ""
@@ -102,6 +107,30 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
         out.append(f"{ind}buffer group {group.name}: obligatory {', '.join(group.obligatory) or '-'}"
                    f"  optional {', '.join(group.optional) or '-'}")
     return out
+
+
+def _variability(agent: Agent) -> str:
+    """``  optional, reactivation resume``; nothing for an agent of a fixed structure."""
+    parts = ["optional"] if agent.optional else []
+    if agent.reactivation != Reactivation.RESTART:
+        parts.append(f"reactivation {agent.reactivation}")
+    return f"  {', '.join(parts)}" if parts else ""
+
+
+def _state_variability(state: State) -> str:
+    parts = [f"configuration {state.configuration}"] if state.configuration else []
+    if state.quiescent:
+        parts.append("quiescent")
+    return f"  ({', '.join(parts)})" if parts else ""
+
+
+def _configuration(configuration: Configuration, indent: str) -> str:
+    agents = " ".join(configuration.agents) or "-"
+    links = " ".join(configuration.links) or "-"
+    timeout = (f"  switch timeout {seconds(configuration.switch_timeout)}"
+               if configuration.switch_timeout is not None else "")
+    unknown = f"  unknown {', '.join(configuration.unknown)}" if configuration.unknown else ""
+    return f"{indent}{configuration.name}: agents {agents}  links {links}{timeout}{unknown}"
 
 
 def _receive(buffer: Buffer) -> str:

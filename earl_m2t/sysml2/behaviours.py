@@ -1,7 +1,8 @@
 """The behaviours a subsystem's ``part def`` owns: ``action def`` (a partial transition
 function, or a shared basic behaviour ``/bb``), ``calc def`` / ``constraint def`` (a primitive
 predicate), ``metadata … : Exclusive about …`` (exclusive predicates), ``metadata name :
-Group { obligatory = …; optional = …; }`` (a buffer group) and ``metadata name : Ltl { formula
+Group { obligatory = …; optional = …; }`` (a buffer group), ``metadata name : Structure { … }``
+(a configuration, in a system) and ``metadata name : Ltl { formula
 = "…"; }`` (an LTL property for ``earl-m2t verify``)."""
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ BASIC_BEHAVIOUR = "BasicBehaviour"
 EXCLUSION = "Exclusion"
 BUFFER_GROUP = "BufferGroup"
 LTL_PROPERTY = "LtlProperty"
+CONFIGURATION = "Configuration"
+TAGGED_CONSTRAINTS = frozenset({BUFFER_GROUP, CONFIGURATION})
 LTL_LANGUAGE = "LTL"
 
 
@@ -81,13 +84,15 @@ class BehaviourWriter:
 
         self.later.append(constrain)
 
-    def buffer_group(self, block: Block, node: Any) -> None:
-        """``metadata command : Group { obligatory = "a/ib"; optional = "b/ib"; }``: a Constraint
-        of the block stereotyped «BufferGroup» with those tags."""
-        if self.scope.metadata_concept(node.type) != BUFFER_GROUP:
+    def tagged_constraint(self, block: Block, node: Any) -> None:
+        """``metadata command : Group { obligatory = "a/ib"; optional = "b/ib"; }`` in a subsystem,
+        ``metadata useA : Structure { agents = "…"; links = "…"; }`` in a system: a Constraint of
+        the block stereotyped «BufferGroup» or «Configuration» with those tags."""
+        concept = self.scope.metadata_concept(node.type)
+        if concept not in TAGGED_CONSTRAINTS:
             return
         constraint = self.uml.child(block.element, "ownedRule", "Constraint", node, identification(node)[1] or "")
-        self.uml.apply(constraint, BUFFER_GROUP, metadata_tags(node), location(node)[0])
+        self.uml.apply(constraint, concept, metadata_tags(node), location(node)[0])
 
     def ltl_property(self, block: Block, node: Any) -> None:
         """``metadata name : Ltl { formula = "…"; }``: a Constraint of the block stereotyped

@@ -20,10 +20,14 @@ PROFILE_PACKAGE = "EARL"
 # metadata by metadata definitions, and the concepts are part, port and interface definitions.
 METADATA_CONCEPTS = {"Priority": "FsmTransition", "Exclusive": "Exclusion", "Memory": "InternalMemory",
                      "Receive": "InputBuffer", "Activation": "FsmState", "Group": "BufferGroup",
-                     "Ltl": "LtlProperty"}
+                     "Ltl": "LtlProperty", "Structure": "Configuration", "Reconfigure": "FsmState",
+                     "Quiescent": "FsmState", "AgentReactivation": "Agent"}
+# Metadata definitions without attributes that stand for a Boolean tag set to true
+# (``@Quiescent;`` is the tag ``quiescent`` of «FsmState»).
+METADATA_FLAGS = {"Quiescent": "quiescent"}
 # Concepts whose metadata usage in a definition is an element of its own (a UML Constraint the
 # block owns), not a stereotype applied to the definition it is written in.
-OWNED_METADATA_CONCEPTS = frozenset({"Exclusion", "BufferGroup", "LtlProperty"})
+OWNED_METADATA_CONCEPTS = frozenset({"Exclusion", "BufferGroup", "LtlProperty", "Configuration"})
 
 
 @cache
@@ -86,6 +90,13 @@ class Scope:
         if name not in self.definitions and METADATA_CONCEPTS.get(name, "") in self.profile.concepts:
             return METADATA_CONCEPTS[name]
         return self.resolve(raw).concept
+
+    def metadata_flags(self, raw: str) -> dict[str, str]:
+        """The tags that metadata typed ``raw`` sets by being there (:data:`METADATA_FLAGS`)."""
+        segments = name_segments(raw)
+        name = segments[-1] if segments else raw
+        flag = METADATA_FLAGS.get(name) if name not in self.definitions else None
+        return {flag: "true"} if flag else {}
 
     def typing(self, usage: Any) -> Resolved | None:
         """What the first type of a usage (``x : T``) stands for; None when it has none."""

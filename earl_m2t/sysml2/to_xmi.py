@@ -166,7 +166,7 @@ class _Builder:
         elif kind == "MetadataUsage" and member.about:
             self.behaviours.exclusion(block, member)
         elif kind == "MetadataUsage":
-            self.behaviours.buffer_group(block, member)
+            self.behaviours.tagged_constraint(block, member)
             self.behaviours.ltl_property(block, member)
         elif kind in ("ConnectorUsage", "FlowUsage"):
             self.later.append(lambda: self._connector(block, member))

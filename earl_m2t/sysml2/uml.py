@@ -141,7 +141,8 @@ class UmlWriter:
         that stands for an element of its own, such as a buffer group, is written elsewhere)."""
         concept = self.scope.metadata_concept(member.type)
         if concept and concept not in OWNED_METADATA_CONCEPTS:
-            self.apply(element, concept, metadata_tags(member), location(member)[0])
+            tags = {**self.scope.metadata_flags(member.type), **metadata_tags(member)}
+            self.apply(element, concept, tags, location(member)[0])
 
     def nested_end(self, end: Element, path: list[str]) -> None:
         """SysML «NestedConnectorEnd» with the property path from the connector's owner."""

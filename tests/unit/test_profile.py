@@ -154,17 +154,21 @@ def test_fsm_transition_has_a_priority_tag_with_default_zero(profile: Profile) -
     )
 
 
-def test_agent_has_an_optional_declared_type_tag_typed_by_agent_type(profile: Profile) -> None:
-    (tag,) = profile.tags("Agent")
-    assert (tag.name, tag.type, tag.lower, tag.upper) == ("declaredType", "AgentType", 0, 1)
+def test_agent_has_optional_declared_type_and_reactivation_tags(profile: Profile) -> None:
+    declared, reactivation = profile.tags("Agent")
+    assert (declared.name, declared.type, declared.lower, declared.upper) == ("declaredType", "AgentType", 0, 1)
+    assert (reactivation.name, reactivation.type, reactivation.default) == ("reactivation", "Reactivation", "restart")
+    assert profile.enums["Reactivation"] == ("restart", "resume")
 
 
-def test_the_tags_are_priority_declared_type_and_activation(profile: Profile) -> None:
+def test_the_tags_are_those_of_the_catalogue(profile: Profile) -> None:
     tagged = {(c.name, f.name) for c in profile.concepts.values() for f in c.features if f.tag}
     assert tagged == {("Agent", "declaredType"), ("FsmTransition", "priority"),
                       ("InputBuffer", "receive"), ("InputBuffer", "queueSize"),
                       ("FsmState", "bufferGroup"), ("FsmState", "minPeriod"), ("FsmState", "firstTimeout"),
-                      ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional")}
+                      ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional"),
+                      ("Agent", "reactivation"), ("FsmState", "configuration"), ("FsmState", "quiescent"),
+                      ("Configuration", "agents"), ("Configuration", "links"), ("Configuration", "switchTimeout")}
 
 
 def test_receive_mode_defaults_to_the_latest_value(profile: Profile) -> None:

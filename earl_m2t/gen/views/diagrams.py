@@ -4,12 +4,17 @@ Four kinds of diagram, each named by the anchor of its element (see
 :mod:`earl_m2t.gen.views.anchors`):
 
 - ``system``: the agents (with their Table 2 type), grouped by robot and by Agent Group, and
-  the inter-agent links labelled with their dataType;
+  the inter-agent links labelled with their dataType; variable agents and links drawn dashed,
+  with the configurations they are present in;
+- ``system-<configuration>``: the same for one configuration of a variable-structure system,
+  only what is present while it holds;
 - ``agent-<agent>``: the agent's subsystems grouped by kind, each with its buffers (and the
   Subsystem Group it belongs to), and the inter-subsystem links from Output Buffer to Input
   Buffer labelled with their dataType;
 - ``fsm-<subsystem>``: the FSM of a subsystem definition: states with their basic
-  behaviour, the initial state, transitions labelled with condition and priority;
+  behaviour (and the configuration a coordinator's state switches to, a quiescent state
+  drawn with a double border), the initial state, transitions labelled with condition and
+  priority;
 - ``tf-<behaviour>``: a basic behaviour's transition function: its pf stage by stage, what
   each pf reads (Input Buffers, memory) and writes (memory, Output Buffers).
 
@@ -21,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from earl_m2t.gen.views.tables import SpecTables, SubsystemTables
+from earl_m2t.gen.views.tables import ConfigurationRow, SpecTables, SubsystemTables
 from earl_m2t.model.elements import Agent, EarlModel
 from earl_m2t.model.kinds import SUBSYSTEM_KINDS
 
@@ -37,6 +42,7 @@ class Diagram:
 
 def build_diagrams(model: EarlModel, tables: SpecTables) -> tuple[Diagram, ...]:
     diagrams = [_system(model, tables)]
+    diagrams.extend(_system(model, tables, row) for row in tables.configurations)
     agents = {a.path: a for a in model.agents}
     for agent_tables in tables.agents:
         diagrams.append(_agent(model, agents[agent_tables.name], tables))
@@ -48,10 +54,13 @@ def build_diagrams(model: EarlModel, tables: SpecTables) -> tuple[Diagram, ...]:
     return tuple(diagrams)
 
 
-def _system(model: EarlModel, tables: SpecTables) -> Diagram:
-    ids = {row.name: f"a{i}" for i, row in enumerate(tables.agent_types)}
+def _system(model: EarlModel, tables: SpecTables, configuration: ConfigurationRow | None = None) -> Diagram:
+    """The agents and inter-agent links; with a configuration, only what is present while it holds."""
+    present_agents = _present(tables.agent_types, configuration)
+    ids = {row.name: f"a{i}" for i, row in enumerate(tables.agent_types) if row.name in present_agents}
     agents = [{"id": ids[row.name], "name": row.name, "type": row.type, "description": row.description,
-               "block": row.block} for row in tables.agent_types]
+               "block": row.block, "variable": ", ".join(row.configurations) if configuration is None else ""}
+              for row in tables.agent_types if row.name in ids]
     groups = [group for system in model.systems for group in system.groups]
     grouped = {member for group in groups for member in group.members}
 
@@ -64,15 +73,33 @@ def _system(model: EarlModel, tables: SpecTables) -> Diagram:
                "agents": [ids[a] for a in robot.agents if a in ids and a not in grouped]}
               for i, robot in enumerate(model.robots)]
     links = []
+    present_links = _present(tables.links, configuration)
     for link in tables.links:
         source, target = model.subsystem_of(link.source), model.subsystem_of(link.target)
         if source is None or target is None or source.agent not in ids or target.agent not in ids:
             continue
+        if link.name not in present_links:
+            continue
         links.append({"source": ids[source.agent], "target": ids[target.agent], "datatype": link.datatype,
-                      "name": link.name})
-    return Diagram(name="system", kind="system", title=f"system {tables.system}", element=tables.system_anchor,
-                   context={"title": f"{tables.system}: agents and inter-agent links", "agents": agents,
+                      "name": link.name,
+                      "variable": ", ".join(link.configurations) if configuration is None else ""})
+    if configuration is None:
+        return Diagram(name="system", kind="system", title=f"system {tables.system}", element=tables.system_anchor,
+                       context={"title": f"{tables.system}: agents and inter-agent links", "agents": agents,
+                                "robots": robots, "groups": agent_groups(tables.system), "links": links})
+    return Diagram(name=f"system-{configuration.anchor}", kind="system",
+                   title=f"configuration {configuration.name}", element=configuration.anchor,
+                   context={"title": f"{tables.system} in configuration {configuration.name}", "agents": agents,
                             "robots": robots, "groups": agent_groups(tables.system), "links": links})
+
+
+def _present(rows: tuple[Any, ...], configuration: ConfigurationRow | None) -> frozenset[str]:
+    """Names of the agents or links present in a configuration: those always present and those
+    it names; every one for the general model."""
+    if configuration is None:
+        return frozenset(row.name for row in rows)
+    return frozenset(row.name for row in rows
+                     if not row.configurations or configuration.name in row.configurations)
 
 
 def _agent(model: EarlModel, agent: Agent, tables: SpecTables) -> Diagram:
@@ -113,7 +140,8 @@ def _agent(model: EarlModel, agent: Agent, tables: SpecTables) -> Diagram:
 
 def _fsm(sub: SubsystemTables) -> Diagram:
     ids = {state.name: f"q{i}" for i, state in enumerate(sub.states)}
-    states = [{"id": ids[s.name], "name": s.name, "behaviour": s.behaviour, "initial": s.name == sub.initial}
+    states = [{"id": ids[s.name], "name": s.name, "behaviour": s.behaviour, "initial": s.name == sub.initial,
+               "configuration": s.configuration, "quiescent": s.quiescent}
               for s in sub.states]
     transitions = [{"source": ids[t.source], "target": ids[t.target], "name": t.name,
                     "condition": t.condition or "TRUE", "priority": t.priority}

@@ -24,6 +24,7 @@ from earl_m2t.model.conditions import Condition
 from earl_m2t.model.elements import Activation, Agent, EarlModel, Link, Subsystem
 from earl_m2t.model.kinds import SUBSYSTEM_KINDS
 from earl_m2t.model.naming import stem
+from earl_m2t.model.variability import coordinator
 from earl_m2t.predicate import format_predicate
 
 
@@ -46,6 +47,7 @@ class AgentTypeRow:
     declared: str
     description: str
     counts: tuple[int, ...]  # |cs| |ve| |re| |vr| |rr| |aa|
+    configurations: tuple[str, ...] = ()  # those it is present in; () when always present
 
 
 @dataclass(frozen=True)
@@ -111,6 +113,8 @@ class StateRow:
     anchor: str
     behaviour: str  # its basic behaviour ("" when it has none; several are joined with ", ")
     activation: str = ""  # "group motors, min period 0.001 s, …"; "" for the subsystem's own period
+    configuration: str = ""  # the configuration a coordinator's state names
+    quiescent: bool = False  # a switch may stop its agent while it is current
 
 
 @dataclass(frozen=True)
@@ -162,6 +166,20 @@ class LinkRow:
     source: str  # owner of the Output Buffer end (subsystem or agent) and the buffer
     target: str
     datatype: str
+    configurations: tuple[str, ...] = ()  # those it is present in; () when always present
+
+
+@dataclass(frozen=True)
+class ConfigurationRow:
+    """A configuration of a variable-structure system: what it holds and which coordinator
+    states switch to it."""
+
+    name: str
+    anchor: str
+    agents: tuple[str, ...]
+    links: tuple[str, ...]
+    switch_timeout: str  # "0.05 s", "" when not given
+    states: tuple[str, ...]  # the coordinator's states that name it
 
 
 @dataclass(frozen=True)
@@ -213,6 +231,8 @@ class SpecTables:
     agents: tuple[AgentTables, ...]
     anchors: AnchorIndex
     groups: tuple[GroupRow, ...] = ()
+    configurations: tuple[ConfigurationRow, ...] = ()
+    coordinator: str = ""  # path of the subsystem that switches configurations
 
     @property
     def subsystems(self) -> tuple[SubsystemTables, ...]:
@@ -226,11 +246,30 @@ def build_tables(model: EarlModel) -> SpecTables:
     system_anchor = anchors.add(system.path if system is not None else model.name)
     agents = tuple(_agent(model, agent, anchors) for agent in model.agents)
     links = tuple(_link(model, link, anchors) for s in model.systems for link in s.links)
+    found = coordinator(model)
     return SpecTables(model=model.name, file=PurePosixPath(model.file.replace("\\", "/")).name,
                       system=system_name, system_anchor=system_anchor,
                       kinds=dict(wording()["kinds"]),
                       agent_types=tuple(_agent_type(model, agent, anchors) for agent in model.agents),
-                      links=links, agents=agents, anchors=anchors, groups=_groups(model))
+                      links=links, agents=agents, anchors=anchors, groups=_groups(model),
+                      configurations=_configurations(model, found, anchors),
+                      coordinator=found.path if found is not None else "")
+
+
+def _configurations(model: EarlModel, switching: Subsystem | None,
+                    anchors: AnchorIndex) -> tuple[ConfigurationRow, ...]:
+    states = switching.fsm.states if switching is not None and switching.fsm is not None else ()
+    return tuple(
+        ConfigurationRow(c.name, anchors.add(c.path), c.agents, c.links,
+                         f"{c.switch_timeout:g} s" if c.switch_timeout is not None else "",
+                         tuple(s.name for s in states if s.configuration == c.name))
+        for system in model.systems for c in system.configurations)
+
+
+def _present_in(model: EarlModel, path: str, agent: bool) -> tuple[str, ...]:
+    """The configurations naming an agent or link; () for one that is always present."""
+    return tuple(c.name for system in model.systems for c in system.configurations
+                 if path in (c.agents if agent else c.links))
 
 
 def _groups(model: EarlModel) -> tuple[GroupRow, ...]:
@@ -268,7 +307,7 @@ def _agent_type(model: EarlModel, agent: Agent, anchors: AnchorIndex) -> AgentTy
     return AgentTypeRow(name=agent.name, anchor=anchors.add(agent.path), block=agent.block, robot=agent.robot,
                         type=agent.computed_type, declared=agent.declared_type,
                         description=str(wording()["agent_types"].get(agent.computed_type, "")),
-                        counts=counts + (inter_agent,))
+                        counts=counts + (inter_agent,), configurations=_present_in(model, agent.path, agent=True))
 
 
 def _agent_of(model: EarlModel, buffer_path: str) -> str:
@@ -316,7 +355,8 @@ def _subsystem(model: EarlModel, agent: Agent, instances: list[Subsystem], ancho
         fsm_anchor = child("fsm")
         initial = fsm.initial or ""
         states = tuple(StateRow(name=state.name, anchor=child(f"fsm.{state.name}"),
-                                behaviour=", ".join(state.behaviours), activation=activation_text(state.activation))
+                                behaviour=", ".join(state.behaviours), activation=activation_text(state.activation),
+                                configuration=state.configuration, quiescent=state.quiescent)
                        for state in fsm.states)
         for state in fsm.states:
             for bb in state.behaviours:
@@ -392,7 +432,8 @@ def _link(model: EarlModel, link: Link, anchors: AnchorIndex) -> LinkRow:
     datatype = source or target
     return LinkRow(name=link.name, anchor=anchors.add(link.path), source=link.source or link.ends[0],
                    target=link.target or link.ends[1],
-                   datatype=_datatype(model, datatype.datatype, datatype.type_ref) if datatype is not None else "?")
+                   datatype=_datatype(model, datatype.datatype, datatype.type_ref) if datatype is not None else "?",
+                   configurations=_present_in(model, link.path, agent=False))
 
 
 def _unique(items: Any) -> tuple[str, ...]:
