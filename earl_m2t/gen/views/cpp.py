@@ -14,6 +14,7 @@ from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.gen.views.cpp_subsystem import UserFiles, subsystem_view
 from earl_m2t.gen.views.cpp_switch import has_configurations, switching_view
+from earl_m2t.model import variability
 from earl_m2t.model.elements import Buffer, EarlModel, Subsystem
 from earl_m2t.model.kinds import SubsystemKind
 
@@ -275,10 +276,8 @@ class _Builder:
 
 
 def _is_variable(model: EarlModel, agent_path: str) -> bool:
-    from earl_m2t.model import variability  # only models with configurations need it
-
     assert model.system is not None
-    return agent_path in set(variability.variable_agents(model.system))
+    return agent_path in variability.variable_agents(model.system)
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:

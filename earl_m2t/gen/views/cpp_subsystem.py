@@ -16,7 +16,7 @@ from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.model.conditions import Condition
-from earl_m2t.model.elements import Activation, BasicBehaviour, Buffer, EarlModel, Subsystem
+from earl_m2t.model.elements import Activation, BasicBehaviour, Buffer, EarlModel, State, Subsystem
 from earl_m2t.model.naming import stem
 from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, walk
 
@@ -362,10 +362,10 @@ def activation_rows(sub: Subsystem, ports: dict[str, Data], scope: Scope) -> tup
     return list(groups.values()), rows
 
 
-def _quiescent(states: Any) -> list[Data]:
+def _quiescent(states: tuple[State, ...]) -> list[Data]:
     """Per state, whether a switch may stop its agent there; [] when no state is declared
     quiescent (then in any state)."""
-    flags = [bool(getattr(state, "quiescent", False)) for state in states]
+    flags = [state.quiescent for state in states]
     if not any(flags):
         return []
     return [{"quiescent": flag, "comment": cpp_comment(state.name)} for flag, state in zip(flags, states)]

@@ -12,14 +12,15 @@ from typing import Any
 
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_string
+from earl_m2t.model import variability
 from earl_m2t.model.elements import EarlModel, System
+from earl_m2t.model.kinds import REACTIVATIONS, Reactivation
 
 Data = dict[str, Any]
 
 
 def has_configurations(model: EarlModel) -> bool:
-    system = model.system
-    return system is not None and bool(getattr(system, "configurations", ()))
+    return variability.is_variable(model)
 
 
 def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data], subsystems: dict[str, str],
@@ -32,8 +33,6 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
     system = model.system
     if system is None or not has_configurations(model):
         return None
-    from earl_m2t.model import variability  # only models with configurations need it
-
     coordinator = variability.coordinator(model)
     if coordinator is None or coordinator.fsm is None:
         raise GenError(f"{system.path}: configurations, but no coordinator names them (rule X003)")
@@ -84,22 +83,20 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
 
 def _variable(system: System) -> tuple[list[str], list[str]]:
     """The variable agents and links, in model order."""
-    from earl_m2t.model import variability
-
     agents = set(variability.variable_agents(system))
     links = set(variability.variable_links(system))
     every_link = [link.path for link in system.links] + [link.path for a in system.agents for link in a.links]
-    ordered_links = [path for path in every_link if path in links]
+    ordered_links = [path for path in dict.fromkeys(every_link) if path in links]
     ordered_links += sorted(links - set(ordered_links))
     return [a.path for a in system.agents if a.path in agents], ordered_links
 
 
 def _reactivation(system: System, path: str) -> str:
-    agent = next(a for a in system.agents if a.path == path)
-    reactivation = getattr(agent, "reactivation", "restart") or "restart"
-    if reactivation not in ("restart", "resume"):
+    agent = variability.agent_of(system, path)
+    reactivation = str(agent.reactivation) if agent is not None else Reactivation.RESTART
+    if reactivation not in REACTIVATIONS:
         raise GenError(f"{path}: reactivation is {reactivation}, not restart or resume")
-    return str(reactivation)
+    return reactivation
 
 
 def _mask(flags: list[bool]) -> str:
