@@ -40,6 +40,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "Transition-function stages": ("stages.uml", "stages-conflict.uml"),
     "Activation: buffer groups, timeouts and receive modes": ("activation.uml",),
     "Properties the whole system must keep (`earl-m2t verify`)": ("ltl-property.uml",),
+    "Variable structure: configurations, the coordinator, quiescent states": ("variable-structure.uml",),
     "4. Conditions: the predicate language": (
         "primitive-predicates.uml", "fsm.uml", "replication.uml", "predicate-errors.uml",
     ),
@@ -87,6 +88,16 @@ TABLE_ROWS: dict[str, str] = {
     "receive mode": "activation.uml",
     # section 3, properties for verify
     "LTL property (earl-m2t)": "ltl-property.uml",
+    # section 3, variable structure
+    "general model": "variable-structure.uml",
+    "configuration": "variable-structure.uml",
+    "coordinator": "variable-structure.uml",
+    "quiescent state": "variable-structure.uml",
+    "`leaving()`": "variable-structure.uml",
+    "reactivation": "variable-structure.uml",
+    "switch timeout": "variable-structure.uml",
+    "variable agent": "variable-structure.uml",
+    "coordinator state": "variable-structure.uml",
     # section 4
     "primitive predicate": "primitive-predicates.uml",
     "and, or, not": "fsm.uml",
@@ -94,6 +105,7 @@ TABLE_ROWS: dict[str, str] = {
     "buffer and memory fields": "primitive-predicates.uml",
     "new data": "primitive-predicates.uml",
     "comparison": "primitive-predicates.uml",
+    "built-in predicates": "variable-structure.uml",
     "replicated instances": "replication.uml",
 }
 
@@ -756,3 +768,24 @@ def test_ltl_property_example_holds_two_properties_that_verify_proves(capsys: py
         "[] (manip/a.cs@stopped -> [] manip/a.cs@stopped) holds",
         "[] (manip/a.cs.stop/pp -> manip/a.cs@stopped) holds",
     ]
+
+
+# ---------------------------------------------------------------------------- 3. variable structure
+
+
+def test_configurations_name_variable_agents_and_links_and_the_coordinator_switches_them() -> None:
+    model = lifted("variable-structure.uml")
+    (system,) = model.systems
+    assert [(c.name, c.agents, c.links, c.switch_timeout) for c in system.configurations] == [
+        ("useA", ("manipA/a",), ("task/a,manipA/a", "manipA/a,task/a"), 0.05),
+        ("useB", ("manipB/a",), ("task/a,manipB/a", "manipB/a,task/a"), 0.05),
+    ]
+    assert {a.path: (a.optional, a.reactivation) for a in system.agents} == {
+        "manipA/a": (True, "resume"), "manipB/a": (True, "resume"), "task/a": (False, "restart")}
+    task = subsystem("variable-structure.uml", "task/a.cs")
+    assert task.fsm is not None and [(s.name, s.configuration) for s in task.fsm.states] == [
+        ("withA", "useA"), ("withB", "useB")]
+    manip = subsystem("variable-structure.uml", "manipA/a.cs")
+    assert manip.fsm is not None and [(s.name, s.quiescent) for s in manip.fsm.states] == [
+        ("idle", True), ("moving", False)]
+    assert codes("variable-structure.uml") == set()

@@ -74,6 +74,19 @@ def test_leaving_is_a_built_in_predicate_of_the_lifted_conditions(model: EarlMod
     assert all(not condition.problems for condition in manipulator.conditions())
 
 
+def test_leaving_written_as_a_sysml_v2_expression_is_the_built_in(tmp_path: Path) -> None:
+    text = FIXTURE.read_text(encoding="utf-8").replace(
+        'constraint tc { language "EARL" /* leaving() or not newCommand/pp */ }',
+        "constraint tc { leaving() or not 'newCommand/pp'() }")
+    changed = tmp_path / "handover.sysml"
+    changed.write_text(text, encoding="utf-8")
+    manipulator = load(changed).model.subsystem("manipA/a.cs")
+    assert manipulator is not None
+    moving = manipulator.behaviour("moving/bb")
+    assert moving is not None and moving.tc is not None and not moving.tc.problems
+    assert any(isinstance(node, BuiltIn) for node in walk(moving.tc.expr))
+
+
 def test_a_name_a_configuration_cannot_resolve_is_kept_as_written(tmp_path: Path) -> None:
     text = FIXTURE.read_text(encoding="utf-8").replace('agents = "manipA/a";', 'agents = "manipA/a manipC/a";')
     text = text.replace('links = "task/a,manipA/a manipA/a,task/a";', 'links = "task/a,manipA/a task/a,nobody/a";')

@@ -4,16 +4,18 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
-from functools import cache
+from functools import cache, partial
 from pathlib import Path
 
 from earl_m2t.cache import cached
+from earl_m2t.check.per_configuration import PER_CONFIGURATION, per_configuration
 from earl_m2t.check.registry import RuleInfo, catalogue
 from earl_m2t.check.rule import Finding, RuleFunction
 from earl_m2t.check.tables import LinkTable, using_permitted_links
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
+from earl_m2t.model.variability import is_variable
 from earl_m2t.ocl import Invariant, OclEvaluationError
 from earl_m2t.ocl import check as ocl_check
 from earl_m2t.resources import metamodel_path
@@ -145,13 +147,13 @@ def check_model(model: EarlModel, options: CheckOptions | None = None) -> list[D
         for code, info in rules.items():
             if not options.enabled(code):
                 continue
-            findings: Iterable[Finding]
-            if info.engine == "ocl":
-                findings = (f for inv in invariants.get(code, []) for f in run_invariant(info, inv, model))
-            elif code in implementations:
-                findings = implementations[code](model)
-            else:
+            if info.engine != "ocl" and code not in implementations:
                 continue
+            findings = _rule_findings(info, model, invariants, implementations)
+            if code in PER_CONFIGURATION and is_variable(model):
+                general = list(findings)
+                run = partial(_rule_findings, info, invariants=invariants, implementations=implementations)
+                findings = general + per_configuration(model, general, run)
             severity = options.severity(info)
             found.extend(Diagnostic(code, severity, f.message, f.location, f.element) for f in findings)
     for info, invariant in options.extra_rules:
@@ -160,6 +162,13 @@ def check_model(model: EarlModel, options: CheckOptions | None = None) -> list[D
             found.extend(Diagnostic(info.code, severity, f.message, f.location, f.element)
                          for f in run_invariant(info, invariant, model))
     return deduplicate(found)
+
+
+def _rule_findings(info: RuleInfo, model: EarlModel, invariants: dict[str, list[Invariant]],
+                   implementations: dict[str, RuleFunction]) -> Iterable[Finding]:
+    if info.engine == "ocl":
+        return (f for inv in invariants.get(info.code, []) for f in run_invariant(info, inv, model))
+    return implementations[info.code](model)
 
 
 def deduplicate(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:

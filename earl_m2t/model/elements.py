@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from earl_m2t.model.conditions import Condition
+from earl_m2t.model.configuration import Configuration
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.directives import LtlProperty, Suppression
 from earl_m2t.model.kinds import (
@@ -357,27 +358,6 @@ class Robot:
     agents: tuple[str, ...]  # agent paths
     location: Location
     recognised_by: str
-
-
-@dataclass(frozen=True, slots=True)
-class Configuration:
-    """A particular structure of a variable-structure system (paper l.195–199): the variable
-    agents and links present while it holds. Agents and links that no configuration names are
-    always present."""
-
-    name: str
-    path: str  # system name + "." + name
-    agents: tuple[str, ...]  # paths of the agents it names that exist
-    links: tuple[str, ...]  # paths of the links it names that exist
-    unknown_agents: tuple[str, ...]  # names in its tag ``agents`` that are no agent, as written
-    unknown_links: tuple[str, ...]  # names in its tag ``links`` that are no link, as written
-    switch_timeout: float | None  # seconds; None when not given, NaN when unreadable
-    location: Location
-
-    @property
-    def unknown(self) -> tuple[str, ...]:
-        """Every name it gives that resolves to nothing."""
-        return self.unknown_agents + self.unknown_links
 
 
 @dataclass(frozen=True, slots=True)

@@ -3,8 +3,9 @@ present in a configuration, and which subsystem switches between configurations.
 
 The model is the general (superset) model of the paper (l.195): every agent and link of any
 configuration. An agent or link that some configuration names is *variable*, present only
-while a configuration naming it holds; everything else is always present. A subsystem of a
-variable agent follows its agent.
+while a configuration naming it holds; everything else is always present, except that a
+subsystem of a variable agent, and a link inside it that no configuration names, follow their
+agent.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from earl_m2t.model.elements import Agent, Configuration, EarlModel, Link, Subsystem, System
-from earl_m2t.model.kinds import SubsystemKind
+from earl_m2t.model.kinds import LinkScope, SubsystemKind
 
 
 def variable_agents(system: System) -> frozenset[str]:
@@ -46,13 +47,14 @@ class Structure:
 
 
 def present(system: System, configuration: Configuration) -> Structure:
-    """The structure induced by ``configuration``."""
+    """The structure induced by ``configuration``: the agents and links no configuration names
+    (a link inside an agent only while its agent is present) and those ``configuration`` names."""
     varying_agents = variable_agents(system)
     varying_links = variable_links(system)
     agents = frozenset(a.path for a in system.agents if a.path not in varying_agents) | frozenset(
         configuration.agents)
-    links = frozenset(link.path for link in system_links(system) if link.path not in varying_links) | frozenset(
-        configuration.links)
+    links = frozenset(link.path for link in system_links(system) if link.path not in varying_links
+                      and (link.scope != LinkScope.AGENT or link.owner in agents)) | frozenset(configuration.links)
     return Structure(configuration, agents, links)
 
 

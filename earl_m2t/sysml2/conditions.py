@@ -5,15 +5,16 @@ A guard ``if 'newJointPos/pp'() and not 'emergencyStop/pp'()`` reads as the pred
 ``and``, ``not`` become ``∨``, ``∧``, ``¬``, ``true``/``false`` ``TRUE``/``FALSE``, quoted
 names lose their quotes, an invocation without arguments of a primitive predicate's
 ``calc def`` (``'x/pp'()``) is its function ``x/pp.fun``; comparisons, other invocations
-(``newData(x)``), feature chains (``'x/pp'.fun``, read as written) and parentheses stay as
-written; an element of a sequence, ``q#(6)`` (1-based), is the predicate language's ``q[5]``
-(0-based).
+(``newData(x)``, the built-in ``leaving()``), feature chains (``'x/pp'.fun``, read as
+written) and parentheses stay as written; an element of a sequence, ``q#(6)`` (1-based), is
+the predicate language's ``q[5]`` (0-based).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from earl_m2t.predicate.ast import BuiltInPredicate
 from earl_m2t.sysml2.parser import name_segments, rule
 
 OPERATORS = {"OrExpression": " ∨ ", "AndExpression": " ∧ "}
@@ -22,6 +23,8 @@ UNARY = {"not": "¬", "-": "-", "+": "+", "~": "~"}
 NOT_CONDITIONS = {"LiteralString": "a string", "LiteralNull": "null"}
 # The function of a primitive predicate in the predicate language: `x/pp.fun`.
 FUNCTION = "fun"
+# Built-in predicates the profile declares as calculations (`leaving()`), written unquoted.
+BUILT_INS = frozenset(BuiltInPredicate)
 
 
 class NotACondition(ValueError):
@@ -44,6 +47,8 @@ def predicate_text(expression: Any) -> str:
     if kind == "ParenthesizedExpression":
         return f"({predicate_text(expression.inner)})"
     if kind == "InvocationExpression":
+        if not expression.arguments and expression.function in BUILT_INS:
+            return f"{expression.function}()"
         if not expression.arguments:
             return f"{_name(expression.function)}.{FUNCTION}"
         arguments = ", ".join(predicate_text(a) for a in expression.arguments)

@@ -4,7 +4,16 @@ registers every one of them (:func:`earl_m2t.check.rule.rule`)."""
 from __future__ import annotations
 
 from earl_m2t.check.rule import RuleFunction, registered_rules
-from earl_m2t.check.rules import activation, behaviour, connection, datatype, groups, transition  # noqa: F401
+from earl_m2t.check.rules import (  # noqa: F401
+    activation,
+    behaviour,
+    connection,
+    datatype,
+    groups,
+    switching,
+    transition,
+    variability,
+)
 
 
 def python_rules() -> dict[str, RuleFunction]:
