@@ -18,6 +18,7 @@ class TargetInfo(NamedTuple):
     doc: str  # the page that documents the target
     renderer: str  # the module of earl_m2t/gen/targets/ that renders it
     orphans: tuple[str, ...]  # what ``gen`` reports as orphaned in the output folder
+    variable_structure: bool  # it runs a model with configurations (switches between them)
 
 
 @cache
@@ -26,4 +27,6 @@ def gen_targets() -> tuple[TargetInfo, ...]:
     path = resources.data_dir("transforms") / "targets.toml"
     table = tomllib.loads(path.read_text(encoding="utf-8"))
     return tuple(TargetInfo(name, str(entry["help"]), str(entry["doc"]), str(entry["renderer"]),
-                            tuple(str(policy) for policy in entry["orphans"])) for name, entry in table.items())
+                            tuple(str(policy) for policy in entry["orphans"]),
+                            bool(entry.get("variable_structure", True)))
+                 for name, entry in table.items())

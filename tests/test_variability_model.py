@@ -174,3 +174,13 @@ def test_the_specification_lists_the_configurations(tmp_path: Path) -> None:
     text = spec.read_text(encoding="utf-8")
     assert "### Configurations" in text and "withA → useA, withB → useB" in text
     assert "Quiescent states (a switch may stop the agent while one is current): idle." in text
+
+
+@pytest.mark.parametrize("target", ["ros", "orocos"])
+def test_a_target_that_cannot_switch_refuses_the_model_in_one_line(target: str, tmp_path: Path) -> None:
+    result = earl_m2t("gen", str(FIXTURE), "--target", target, "-o", str(tmp_path / "out"))
+    assert result.returncode == 1
+    assert result.stderr.strip().splitlines() == [
+        f"earl-m2t: gen: --target {target} does not switch configurations yet (the model has useA, useB); "
+        "--target cpp runs a variable structure"]
+    assert not (tmp_path / "out").exists()

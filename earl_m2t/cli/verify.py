@@ -30,7 +30,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--ltl", action="append", default=[], metavar="FORMULA",
                         help="an LTL property over agent/subsystem@state and agent/subsystem.name/pp (a primitive "
                              "predicate's value in the subsystem's latest iteration), e.g. "
-                             "'[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)' "
+                             "'[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)'; with configurations "
+                             "also config@NAME, switching and agent@active "
+                             "('[] (config@useB -> !manipA/a@active)') "
                              "(repeatable; the model's own properties are checked too)")
     add_dialect_option(parser)
     add_profile_files_option(parser)

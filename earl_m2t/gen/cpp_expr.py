@@ -22,8 +22,11 @@ from earl_m2t.model.conditions import Condition
 from earl_m2t.model.datatypes import DataType, Field
 from earl_m2t.model.elements import EarlModel, Subsystem
 from earl_m2t.model.naming import stem
+from earl_m2t.model.variability import is_variable
 from earl_m2t.predicate import (
     And,
+    BuiltIn,
+    BuiltInPredicate,
     Compare,
     Const,
     Expr,
@@ -67,6 +70,7 @@ class ExprCompiler:
         self.model = model
         self.scope = subsystem.scope
         self.symbols = symbols
+        self.switching = is_variable(model)  # the subsystems have the runtime's leaving()
         self._where = ""
 
     def compile(self, condition: Condition, where: str) -> str:
@@ -99,6 +103,8 @@ class ExprCompiler:
             return self._new_data(node.ref)
         if isinstance(node, Compare):
             return f"({self._operand(node.left)} {node.op} {self._operand(node.right)})"
+        if isinstance(node, BuiltIn) and node.name == BuiltInPredicate.LEAVING:
+            return "leaving()" if self.switching else "false"  # without configurations nothing leaves
         if isinstance(node, Replicated):
             raise self._error(f"'{format_predicate(node)}' names no replicated buffer or memory")
         raise self._error(f"unsupported expression {node!r}")

@@ -19,6 +19,7 @@ class GenTarget:
     name: str  # also its folder transforms/NAME: its target.toml and templates
     renderer: Renderer
     orphans: tuple[OrphanFinder, ...]
+    variable_structure: bool = True  # it runs a model with configurations
 
 
 def declared_target(name: str) -> GenTarget:
@@ -31,4 +32,5 @@ def declared_target(name: str) -> GenTarget:
     renderer = getattr(module, "RENDERER", None)
     if not isinstance(renderer, Renderer):
         raise GenError(f"transforms/targets.toml: {module.__name__} declares no RENDERER for the target {name!r}")
-    return GenTarget(name, renderer, tuple(orphan_finder(policy) for policy in entry.orphans))
+    return GenTarget(name, renderer, tuple(orphan_finder(policy) for policy in entry.orphans),
+                     entry.variable_structure)

@@ -17,10 +17,12 @@ from pathlib import Path
 
 from earl_m2t.gen.declared import GenTarget, declared_target
 from earl_m2t.gen.engine import load_target
+from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.orphans import orphans_of
 from earl_m2t.gen.rendered import Rendered
 from earl_m2t.gen.target import TargetRun, Views
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.variability import is_variable
 from earl_m2t.output import WriteReport, write_files
 from earl_m2t.trace.sourcemap import with_source_map
 
@@ -50,6 +52,10 @@ def render(model: EarlModel, target: str = "cpp", templates: Path | None = None,
 
 
 def _render(target: GenTarget, model: EarlModel, templates: Path | None, strict: bool) -> Rendered:
+    if not target.variable_structure and is_variable(model):
+        names = ", ".join(c.name for system in model.systems for c in system.configurations)
+        raise GenError(f"--target {target.name} does not switch configurations yet (the model has {names}); "
+                       f"--target cpp runs a variable structure")
     views = Views(model, strict, target.renderer.views)
     return target.renderer.render(TargetRun(target.name, load_target(target.name), templates, views))
 

@@ -3,7 +3,10 @@
 Two kinds of atom: ``agent/subsystem@state`` (the subsystem is in that state) and
 ``agent/subsystem.name/pp`` (the primitive predicate ``name/pp`` of that subsystem held in its
 latest iteration; false before its first one). The ``/pp`` suffix is required, so a predicate
-and a state of the same name (the sample's ``emergencyStop``) are never confused.
+and a state of the same name (the sample's ``emergencyStop``) are never confused. A model with
+a variable structure adds ``config@NAME`` (the configuration holds), ``switching`` (a switch is
+pending) and ``agent@active`` (the agent runs; it has no ``.subsystem``, so it is never read as
+a state atom).
 """
 
 from __future__ import annotations
@@ -17,8 +20,13 @@ from earl_m2t.model.elements import EarlModel, Subsystem
 _SUBSYSTEM = r"[A-Za-z_]\w*/[A-Za-z]+\.[A-Za-z_]\w*(?:/[A-Za-z]+)?"
 _STATE_ATOM = re.compile(rf"({_SUBSYSTEM})@([A-Za-z_]\w*)")
 _PREDICATE_ATOM = re.compile(rf"({_SUBSYSTEM})\.([A-Za-z_]\w*/pp)\b")
+_CONFIG_ATOM = re.compile(r"config@([A-Za-z_]\w*)")
+_AGENT_ATOM = re.compile(r"([A-Za-z_]\w*/[A-Za-z]+)@active\b")
+_SWITCHING_ATOM = re.compile(r"switching\b")
 _ALLOWED = re.compile(r"\s*(\[\]|<>|!|&&|\|\||->|<->|\(|\)|U\b|V\b|W\b|true\b|false\b)")
 _HINT = "write agent/subsystem@state, agent/subsystem.name/pp, [] <> ! && || -> U and parentheses"
+_VARIABLE_HINT = ("write agent/subsystem@state, agent/subsystem.name/pp, config@NAME, switching, agent@active, "
+                  "[] <> ! && || -> U and parentheses")
 
 
 class LtlError(Exception):
@@ -37,7 +45,22 @@ class PredicateAtom:
     predicate: str  # the primitive predicate's name in the model
 
 
-Token = str | StateAtom | PredicateAtom
+@dataclass(frozen=True, slots=True)
+class ConfigAtom:
+    configuration: str  # its name
+
+
+@dataclass(frozen=True, slots=True)
+class AgentAtom:
+    agent: str  # its path
+
+
+@dataclass(frozen=True, slots=True)
+class SwitchingAtom:
+    pass
+
+
+Token = str | StateAtom | PredicateAtom | ConfigAtom | AgentAtom | SwitchingAtom
 
 
 def tokens(prop: LtlProperty, model: EarlModel) -> tuple[Token, ...]:
@@ -68,9 +91,15 @@ class _Tokenizer:
                 out.append(self._predicate(predicate.group(1), predicate.group(2), pos))
                 pos = predicate.end()
                 continue
+            atom = self._structure(text, pos)
+            if atom is not None:
+                out.append(atom[0])
+                pos = atom[1]
+                continue
             op = _ALLOWED.match(text, pos)
             if not op:
-                raise self._error(pos, f"unexpected {text[pos:pos + 12]!r}: {_HINT}")
+                hint = _VARIABLE_HINT if any(s.configurations for s in self.model.systems) else _HINT
+                raise self._error(pos, f"unexpected {text[pos:pos + 12]!r}: {hint}")
             out.append(op.group(1))
             pos = op.end()
         if text.count("(") != text.count(")"):
@@ -78,6 +107,23 @@ class _Tokenizer:
         if not out:
             raise self._error(0, f"the property {self.prop.title} has no formula")
         return tuple(out)
+
+    def _structure(self, text: str, pos: int) -> tuple[Token, int] | None:
+        """An atom of the variable structure at ``pos`` and where it ends, None when there is none."""
+        config = _CONFIG_ATOM.match(text, pos)
+        if config:
+            names = [c.name for s in self.model.systems for c in s.configurations]
+            if config.group(1) not in names:
+                known = ", ".join(names) or "none"
+                raise self._error(pos, f"no configuration {config.group(1)} (the model has: {known})")
+            return ConfigAtom(config.group(1)), config.end()
+        agent = _AGENT_ATOM.match(text, pos)
+        if agent:
+            if not any(a.path == agent.group(1) for a in self.model.agents):
+                raise self._error(pos, f"no agent {agent.group(1)}")
+            return AgentAtom(agent.group(1)), agent.end()
+        switching = _SWITCHING_ATOM.match(text, pos)
+        return (SwitchingAtom(), switching.end()) if switching else None
 
     def _state(self, path: str, state: str, pos: int) -> StateAtom:
         subsystem = self.model.subsystem(path)

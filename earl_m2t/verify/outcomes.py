@@ -16,7 +16,18 @@ from itertools import combinations, product
 from earl_m2t.analysis.expand import Expander, Formula
 from earl_m2t.model.elements import EarlModel, State, Subsystem, Transition
 from earl_m2t.model.naming import split
-from earl_m2t.predicate import And, Const, Expr, Not, Or, PredicateRef, evaluate_atoms, format_predicate
+from earl_m2t.predicate import (
+    And,
+    BuiltIn,
+    BuiltInPredicate,
+    Const,
+    Expr,
+    Not,
+    Or,
+    PredicateRef,
+    evaluate_atoms,
+    format_predicate,
+)
 
 MAX_ATOMS = 16  # 65536 assignments per state; above this every outcome is taken as possible
 
@@ -37,15 +48,17 @@ class StateOutcomes:
     exact: bool  # False when the conditions had too many atoms or could not be analysed
 
 
-def state_outcomes(model: EarlModel, subsystem: Subsystem,
-                   observed: tuple[str, ...] = ()) -> tuple[StateOutcomes, ...]:
+def state_outcomes(model: EarlModel, subsystem: Subsystem, observed: tuple[str, ...] = (),
+                   built_ins: tuple[BuiltInPredicate, ...] = ()) -> tuple[StateOutcomes, ...]:
     """The outcomes of each state; with ``observed`` primitive predicates (read by LTL
-    properties), outcomes that differ only in those predicates' values are told apart."""
+    properties), outcomes that differ only in those predicates' values are told apart, and so
+    are they by the values of ``built_ins`` (``leaving()``, set by a switch), observed after them."""
     if subsystem.fsm is None:
         return ()
     expander = Expander(subsystem, model.datatypes)
     exclusions = _exclusions(expander, subsystem)
-    watched = tuple((split(name)[0], expander.predicate(name) or PredicateRef(name)) for name in observed)
+    watched = tuple((split(name)[0], expander.predicate(name) or PredicateRef(name)) for name in observed) + tuple(
+        (f"{name}()", BuiltIn(name)) for name in built_ins)
     return tuple(_one_state(expander, subsystem, state, exclusions, watched) for state in subsystem.fsm.states)
 
 

@@ -14,9 +14,20 @@ from earl_m2t.model.elements import EarlModel, Subsystem
 from earl_m2t.model.location import Location
 from earl_m2t.verify import spin
 from earl_m2t.verify.promela import OUTCOME_MARK, Specification, Step, translate
+from earl_m2t.verify.switch_trace import SwitchReader
+from earl_m2t.verify.switching import (
+    EXCLUSIVE_CLAIM,
+    LOSS_CLAIM,
+    SWITCH_MARK,
+    TIMEOUT_CLAIM,
+    Reconfiguration,
+    exclusive_pairs,
+)
 
 MEMORY_MB = 1024  # pan's state storage (-DMEMLIM)
 UNREACHABLE, DEADLOCK, NEVER_ENDS, NO_WAY_OUT, LTL_VIOLATED = "V001", "V002", "V003", "V004", "V005"
+SWITCH_LOSES, SWITCH_TIMES_OUT, SWITCH_OVERLAPS = "V006", "V007", "V008"
+_MARKS = re.compile(rf"{OUTCOME_MARK} (\d+) (\d+) (\d+)|{SWITCH_MARK} (\w+)([^\n]*)")
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +83,8 @@ def verify_model(model: EarlModel, options: VerifyOptions) -> VerifyResult:
         try:
             _reachability(spec, folder, options, left, result)
             _deadlock(spec, folder, options, left, result)
+            if spec.reconfiguration is not None:
+                _switches(model, spec.reconfiguration, folder, options, left, result)
             for prop in options.properties:
                 _ltl(model, prop, folder, options, left, result)
         except spin.OutOfTime as exc:
@@ -113,6 +126,7 @@ def _reachability(spec: Specification, folder: Path, options: VerifyOptions, lef
         assert fsm is not None
         entered = {fsm.initial} | {s.outcome.transition.target for s in taken
                                    if s.subsystem is sub and s.outcome.transition is not None}
+        entered |= {state.name for line, by, state in spec.entries if by is sub and line not in run.unreached}
         for state, outcomes in zip(info.states, info.outcomes):
             if state.name not in entered:
                 result.findings.append(Finding(
@@ -158,6 +172,61 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: C
         result.proven.append("no deadlock: no reachable state has a subsystem waiting for an input nobody sends")
 
 
+_SWITCH_CHECKS = ((SWITCH_LOSES, LOSS_CLAIM, "no switch loses values"),
+                  (SWITCH_TIMES_OUT, TIMEOUT_CLAIM, "every switch can end without its timeout"),
+                  (SWITCH_OVERLAPS, EXCLUSIVE_CLAIM, "exclusivity"))
+
+
+def _switches(model: EarlModel, rc: Reconfiguration, folder: Path, options: VerifyOptions,
+              left: Callable[[], float], result: VerifyResult) -> None:
+    """V006-V008: a switch that loses values, one that only its timeout ends, agents of
+    different configurations running together."""
+    pairs = exclusive_pairs(rc)
+    together = ", ".join(f"{a.agent.path} and {b.agent.path}" for a, b in pairs) or "none"
+    proven = {
+        SWITCH_LOSES: "no switch loses values: every leaving agent can stop in a quiescent state once it has "
+                      "received every value sent to it",
+        SWITCH_TIMES_OUT: "every switch can end without its timeout",
+        SWITCH_OVERLAPS: f"exclusivity: agents that share no configuration never run together ({together})",
+    }
+    for code, claim, what in _SWITCH_CHECKS:
+        if code == SWITCH_TIMES_OUT and any(f.code == SWITCH_LOSES for f in result.findings):
+            continue  # a switch that loses values is one its timeout ended
+        claimed = translate(model, (), claim)
+        # safety properties: the never claim ends at the first bad state, and -i makes the
+        # counterexample the shortest one
+        binary = spin.build(folder, claimed.text, f"pan_{claim}", ("-DREACH", f"-DMEMLIM={MEMORY_MB}"), left())
+        run = spin.search(binary, ("-i", *_pan_flags(options)), left())
+        # not counted as explored: the same state space as reachability's, searched again (-DREACH)
+        if run.errors:
+            trace, reader = _read_trace(claimed, spin.replay(folder, left()))
+            result.findings.append(_switch_finding(model, rc, code, trace, reader))
+        elif not run.complete:
+            result.not_proven.append(f"{what}: " + _bounded(run, options))
+        else:
+            result.proven.append(proven[code])
+
+
+def _switch_finding(model: EarlModel, rc: Reconfiguration, code: str, trace: tuple[TraceStep, ...],
+                    reader: SwitchReader | None) -> Finding:
+    stuck = reader.stuck if reader is not None else []
+    where = "; ".join(f"{agent} stuck in {state or 'its state'}, {why}" for agent, state, why in stuck)
+    switch = " → ".join(reader.timed_out) if reader is not None and reader.timed_out else ""
+    if code == SWITCH_LOSES and reader is not None and reader.lost:
+        label, count = reader.lost[0]
+        link = next((lk for lk in model.links if lk.path == label), None)
+        return Finding(code, f"a switch can lose values on {label}: the switch {switch} ends by its timeout with "
+                       f"{count} value(s) not received ({where})", label,
+                       link.location if link else rc.system.location, trace)
+    if code == SWITCH_TIMES_OUT and stuck:
+        agent = next((a for a in model.agents if a.path == stuck[0][0]), None)
+        return Finding(code, f"the switch {switch} can only end by its timeout: {where}", stuck[0][0],
+                       agent.location if agent else rc.system.location, trace)
+    running = sorted(reader.running) if reader is not None else []
+    return Finding(code, f"agents of different configurations run together: {', '.join(running)}",
+                   rc.system.path, rc.system.location, trace)
+
+
 def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptions, left: Callable[[], float],
          result: VerifyResult) -> None:
     spec = translate(model, (prop,))
@@ -175,20 +244,37 @@ def _ltl(model: EarlModel, prop: LtlProperty, folder: Path, options: VerifyOptio
 
 
 def _trace(spec: Specification, replay: str) -> tuple[TraceStep, ...]:
+    return _read_trace(spec, replay)[0]
+
+
+def _read_trace(spec: Specification, replay: str) -> tuple[tuple[TraceStep, ...], SwitchReader | None]:
+    """The counterexample, and what its switches did (None for a fixed structure)."""
     by_key = {}
     for generated in spec.steps:
         info = next(i for i, p in enumerate(spec.processes) if p.subsystem is generated.subsystem)
         state = spec.processes[info].states.index(generated.state)
         outcome = spec.processes[info].outcomes[state].outcomes.index(generated.outcome)
         by_key[(info, state, outcome)] = generated
+    reader = SwitchReader(spec, spec.reconfiguration) if spec.reconfiguration is not None else None
     steps: list[TraceStep] = []
-    for match in re.finditer(rf"{OUTCOME_MARK} (\d+) (\d+) (\d+)", replay):
+    for match in _MARKS.finditer(replay):
+        if match.group(4) is not None:
+            kind, words = match.group(4), match.group(5).split()
+            if reader is None:
+                continue
+            if kind == "begin" and steps and words:
+                last = steps[-1]
+                steps[-1] = TraceStep(last.number, last.subsystem, last.source, last.target,
+                                      last.why + reader.begins(words[0]), last.values)
+            elif (event := reader.event(kind, words)) is not None:
+                steps.append(TraceStep(len(steps) + 1, event.subsystem, event.source, event.target, event.why, ()))
+            continue
         step: Step = by_key[(int(match.group(1)), int(match.group(2)), int(match.group(3)))]
         o = step.outcome
         target = o.transition.target if o.transition else step.state.name
         why = o.transition.name if o.transition else ("behaviour ended, no transition" if o.ended else "iteration")
         steps.append(TraceStep(len(steps) + 1, step.subsystem.path, step.state.name, target, why, o.witness))
-    return tuple(steps)
+    return tuple(steps), reader
 
 
 def _waiting_at_end(spec: Specification, trace: tuple[TraceStep, ...]) -> list[tuple[Subsystem, str]]:

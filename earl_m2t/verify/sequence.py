@@ -15,9 +15,7 @@ def counterexample_dot(model: EarlModel, finding: Finding) -> bytes:
     involved = list(dict.fromkeys(step.subsystem for step in finding.trace))
     lifelines = []
     for index, path in enumerate(involved):
-        sub = model.subsystem(path)
-        initial = sub.fsm.initial if sub is not None and sub.fsm is not None else ""
-        lifelines.append({"id": f"l{index}", "name": path, "initial": initial or ""})
+        lifelines.append({"id": f"l{index}", "name": path, "initial": _initially(model, path)})
     ids = {path: f"l{index}" for index, path in enumerate(involved)}
     steps = [{
         "number": step.number,
@@ -28,6 +26,17 @@ def counterexample_dot(model: EarlModel, finding: Finding) -> bytes:
     title = f"{finding.code} {finding.element}: {finding.message}"
     template = str(load_target(TARGET)["verify"]["counterexample"])
     return render(env, template, title=title, lifelines=lifelines, steps=steps)
+
+
+def _initially(model: EarlModel, path: str) -> str:
+    """What a lifeline shows under its name: a subsystem's initial state; an agent or a link (the
+    steps of a switch) says which it is (Graphviz rejects an empty line)."""
+    sub = model.subsystem(path)
+    if sub is not None:
+        return sub.fsm.initial or "" if sub.fsm is not None else ""
+    if any(a.path == path for a in model.agents):
+        return "agent"
+    return "link" if any(link.path == path for link in model.links) else ""
 
 
 def _escape(text: object) -> str:

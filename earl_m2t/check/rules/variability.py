@@ -134,12 +134,26 @@ def configuration_unreachable_or_duplicate(model: EarlModel) -> Iterator[Finding
                 seen[key] = cfg.path
 
 
-def _uses_leaving(condition: Condition) -> bool:
-    return condition.expr is not None and any(isinstance(node, BuiltIn) for node in walk(condition.expr))
+class _LeavingUse:
+    """Whether a condition uses leaving(), walked once per parsed expression: conditions with the
+    same text share their expression, and a model without leaving() has thousands of them."""
+
+    def __init__(self) -> None:
+        self._known: dict[int, bool] = {}  # id of an expression the model holds -> the answer
+
+    def __call__(self, condition: Condition) -> bool:
+        expr = condition.expr
+        if expr is None:
+            return False
+        found = self._known.get(id(expr))
+        if found is None:
+            found = self._known[id(expr)] = any(isinstance(node, BuiltIn) for node in walk(expr))
+        return found
 
 
 @rule("X011")
 def leaving_outside_variable_agent(model: EarlModel) -> Iterator[Finding]:
+    _uses_leaving = _LeavingUse()
     using = {sub.block_id for sub in model.definitions() if any(_uses_leaving(c) for c in sub.conditions())}
     removable = {a.path for s in model.systems for a in leaving_agents(s)} if using else set()
     for sub in model.subsystems:

@@ -18,7 +18,8 @@ def _cpp_view(views: Views) -> CppView:
     capacities, executor = spec.get("capacities", {}), spec.get("executor", {})
     settings = CppTarget(types=dict(spec["types"]), string_capacity=int(capacities.get("string", 64)),
                          unbounded_capacity=int(capacities.get("unbounded_array", 16)),
-                         cycles=int(executor.get("cycles", 10)), period_ms=int(executor.get("period_ms", 1)))
+                         cycles=int(executor.get("cycles", 10)), period_ms=int(executor.get("period_ms", 1)),
+                         switch_timeout=float(executor.get("switch_timeout_ms", 50)) / 1000)
     return build_view(views.model, settings)
 
 
@@ -48,9 +49,11 @@ def _render(run: TargetRun) -> Rendered:
                 put_file(user, pattern.format(agent=item["agent"], sub=item["sub"], name=item["name"]),
                          render_template(env, template, item=item))
     runtime = target_dir(run.name) / run.spec.get("runtime", "runtime")
+    skipped = set() if view.system.get("switching") else set(run.spec.get("switch_runtime", ()))
     for path in sorted(runtime.rglob("*")):
-        if path.is_file():
-            put_file(generated, "runtime/" + path.relative_to(runtime).as_posix(), path.read_bytes())
+        relative = path.relative_to(runtime).as_posix()
+        if path.is_file() and relative not in skipped:
+            put_file(generated, "runtime/" + relative, path.read_bytes())
     return beside_user_files(generated, user)
 
 

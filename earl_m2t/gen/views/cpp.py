@@ -13,13 +13,20 @@ from typing import Any
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.gen.views.cpp_subsystem import UserFiles, subsystem_view
+from earl_m2t.gen.views.cpp_switch import has_configurations, switching_view
+from earl_m2t.model import variability
 from earl_m2t.model.elements import Buffer, EarlModel, Subsystem
+from earl_m2t.model.kinds import SubsystemKind
 
 Data = dict[str, Any]
 
 # names the generated classes define themselves, per scope
 _AGENT_RESERVED = ("Agent", "step", "components", "setObserver", "kComponents")
 _MODEL_RESERVED = ("types", "System", "system")  # "system": the system executable and its main
+# and those a model with configurations adds
+_AGENT_SWITCHING = ("joinSlot", "clearLinks")
+_SYSTEM_SWITCHING = ("switcher", "switch_", "slots_", "switchLinks_", "kConfigurations", "kAgentMask", "kLinkMask",
+                     "kSwitchTimeoutNs", "kStateConfiguration", "kSwitchTables")
 
 
 @dataclass(frozen=True)
@@ -31,6 +38,7 @@ class CppTarget:
     unbounded_capacity: int
     cycles: int
     period_ms: int
+    switch_timeout: float = 0.05  # s, for a configuration that sets none
 
 
 @dataclass
@@ -61,6 +69,8 @@ class _Builder:
         self.defs: dict[str, Data] = {}  # subsystem instance path -> its member in the agent
         self.definitions: dict[str, Data] = {}  # block id -> subsystem definition view
         self.port_members: dict[str, dict[str, str]] = {}  # block id -> buffer template -> port member
+        self.switching = has_configurations(model)
+        self.agent_reserved = _AGENT_RESERVED + (_AGENT_SWITCHING if self.switching else ())
 
     @property
     def unbounded_capacity(self) -> int:
@@ -142,18 +152,20 @@ class _Builder:
         agent_ns: dict[str, str] = {a.path: agents_scope.take(a.name) for a in system.agents}
         view = CppView(system={})
         # subsystem definitions, placed under the agent of their first instance
-        sub_scopes = {a.path: Scope(_AGENT_RESERVED) for a in system.agents}
+        sub_scopes = {a.path: Scope(self.agent_reserved) for a in system.agents}
         owner_agent = {sub.path: a.path for a in system.agents for sub in a.subsystems}
         user = UserFiles(view.user_pf, view.user_pp)
         for definition in self.model.definitions():
             agent_path = owner_agent[definition.path]
             sub_ns = sub_scopes[agent_path].take(definition.template or definition.name)
-            view.subsystems.append(subsystem_view(self, definition, agent_ns[agent_path], sub_ns, fan, user))
+            view.subsystems.append(subsystem_view(self, definition, agent_ns[agent_path], sub_ns, fan, user,
+                                                  self.switching))
         self.port_members = {d["block_id"]: d["port_members"] for d in view.subsystems}
         self.definitions = {d["block_id"]: d for d in view.subsystems}
         for agent in system.agents:
             view.agents.append(self._agent(agent.path, agent_ns[agent.path]))
-        members = Scope(("System", "step", "components", "setObserver", "kComponents"))
+        members = Scope(("System", "step", "components", "setObserver", "kComponents")
+                        + (_SYSTEM_SWITCHING if self.switching else ()))
         agents: list[Data] = [{"member": members.take(a.name), "cls": f"::{self.ns}::{agent_ns[a.path]}::Agent",
                    "ns": agent_ns[a.path], "path": a.path, "trace": a.path,
                    "components": len(a.subsystems)} for a in system.agents]
@@ -164,14 +176,21 @@ class _Builder:
         executables: list[Data] = [{"name": f"{self.ns}_system", "source": "generated/src/system_main.cpp"}]
         executables += [{"name": f"{self.ns}_{a['ns']}", "source": f"generated/src/{a['ns']}_main.cpp"}
                         for a in agents]
+        channels = {row["trace"]: row for row in links}
+        for agent_row, agent_view in zip(agents, view.agents):
+            for row in agent_view["links"]:
+                channels[row["trace"]] = {**row, "expression": f"{agent_row['member']}.{row['member']}"}
+        switching = switching_view(self.model, agents, channels, {p: d["member"] for p, d in self.defs.items()},
+                                   members, self.target.switch_timeout)
         view.system = {
             "trace": system.path, "ns": self.ns, "model": cpp_comment(self.model.name), "name": cpp_string(system.name),
-            "types": types, "agents": agents, "links": links,
+            "types": types, "agents": agents, "links": links, "switching": switching,
             "components": sum(a["components"] for a in agents),
             "includes": [f"{self.ns}/{a['ns']}/agent.hpp" for a in agents],
             "main": {"include": f"{self.ns}/system.hpp", "cls": f"::{self.ns}::System",
                      "what": cpp_comment(f"system {system.name}"), "name": cpp_string(system.name),
-                     "cycles": self.target.cycles, "period_ms": self.target.period_ms},
+                     "cycles": self.target.cycles, "period_ms": self.target.period_ms,
+                     "switching": switching is not None},
             "executables": executables,
         }
         return view
@@ -200,23 +219,27 @@ class _Builder:
 
     def _agent(self, agent_path: str, agent_ns: str) -> Data:
         agent = next(a for a in self.model.agents if a.path == agent_path)
-        members = Scope(_AGENT_RESERVED)
+        members = Scope(self.agent_reserved)
         instances = []
         for sub in agent.subsystems:
             member = members.take(sub.name)
             self.defs[sub.path] = {"member": member}
             definition = self.definitions[sub.block_id]
             instances.append({"member": member, "path": cpp_string(sub.path), "trace": sub.path,
+                              "control": sub.kind == SubsystemKind.CS,
                               "cls": f"::{definition['ns']}::Subsystem",
                               "include": f"{self.ns}/{definition['agent']}/{definition['sub']}/subsystem.hpp"})
         links = [self._link(link, members, lambda _p: "") for link in agent.links]
         includes = list(dict.fromkeys(i["include"] for i in instances))
+        variable = self.switching and _is_variable(self.model, agent.path)
+        control = [sub.path for sub in agent.subsystems if sub.kind == SubsystemKind.CS]
         return {"trace": agent.path, "ns": agent_ns, "path": agent.path, "comment": cpp_comment(agent.path),
-                "instances": instances,
+                "instances": instances, "switching": self.switching, "variable": variable,
+                "control_comment": cpp_comment(control[0] if control else "no control subsystem"),
                 "subsystems": [{"include": i} for i in includes], "links": links, "model_ns": self.ns,
                 "main": {"include": f"{self.ns}/{agent_ns}/agent.hpp", "cls": f"::{self.ns}::{agent_ns}::Agent",
                          "what": cpp_comment(f"agent {agent.path}"), "name": cpp_string(agent.path),
-                         "cycles": self.target.cycles, "period_ms": self.target.period_ms}}
+                         "cycles": self.target.cycles, "period_ms": self.target.period_ms, "switching": False}}
 
     def _link(self, link: Any, scope: Scope, prefix: Any) -> Data:
         if not link.source or not link.target:
@@ -236,14 +259,25 @@ class _Builder:
             raise GenError(f"{link.path}: the two ends have different dataTypes (rule C006)")
         target = self.model.buffer(link.target)
         value_type = self.cpp_type(types[0], link.path)
-        channel = (f"earl::QueueChannel<{value_type}, {target.queue_size}>"
-                   if target is not None and target.receive == "queue" else f"earl::Channel<{value_type}>")
-        return {"trace": link.path,
-                "member": scope.take(f"link {link.name}"), "type": value_type, "channel": channel,
-                "source": ends[0], "target": ends[1], "comment": cpp_comment(link.name)}
+        queued = target is not None and target.receive == "queue"
+        channel = (f"earl::QueueChannel<{value_type}, {target.queue_size}>" if target is not None and queued
+                   else f"earl::Channel<{value_type}>")
+        member = scope.take(f"link {link.name}")
+        row = {"trace": link.path, "member": member, "type": value_type, "channel": channel,
+               "source": ends[0], "target": ends[1], "comment": cpp_comment(link.name)}
+        if self.switching:
+            receiver = self.model.subsystem_of(link.target)
+            row.update(channel=f"earl::VariableLink<{channel}>", queued=queued, name=cpp_string(link.path),
+                       expression=member, receiver_subsystem=receiver.path if receiver is not None else "")
+        return row
 
     def _port_member(self, sub: Subsystem, buf: Buffer) -> str:
         return self.port_members[sub.block_id][buf.template]
+
+
+def _is_variable(model: EarlModel, agent_path: str) -> bool:
+    assert model.system is not None
+    return agent_path in variability.variable_agents(model.system)
 
 
 def _multiplicity(lower: int, upper: int | None) -> str:

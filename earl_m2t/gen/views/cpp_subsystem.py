@@ -16,7 +16,7 @@ from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.model.conditions import Condition
-from earl_m2t.model.elements import Activation, BasicBehaviour, Buffer, EarlModel, Subsystem
+from earl_m2t.model.elements import Activation, BasicBehaviour, Buffer, EarlModel, State, Subsystem
 from earl_m2t.model.naming import stem
 from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, walk
 
@@ -27,6 +27,8 @@ _SUBSYSTEM_RESERVED = ("Data", "Subsystem", "data", "data_", "tables", "execute"
                        "startHook", "updateHook", "stopHook", "name", "period", "setPeriod",
                        "setObserver", "observer", "iteration", "steps", "currentState",
                        "currentStateName", "Base")
+# and those of the base of a subsystem in a model with configurations
+_SWITCHING_RESERVED = ("resetData", "quiescent", "leaving", "switching", "joinAgent", "coordinate")
 
 
 class Types(Protocol):
@@ -51,21 +53,23 @@ class UserFiles:
 
 
 def subsystem_view(types: Types, sub: Subsystem, agent_ns: str, sub_ns: str, fan: dict[tuple[str, str], int],
-                   user: UserFiles) -> Data:
-    """The view of the definition ``sub``, its user files appended to ``user``; raises GenError."""
-    return _SubsystemView(types, sub, agent_ns, sub_ns, fan, user).build()
+                   user: UserFiles, switching: bool = False) -> Data:
+    """The view of the definition ``sub``, its user files appended to ``user``; raises GenError.
+    ``switching``: the model has configurations (variable structure)."""
+    return _SubsystemView(types, sub, agent_ns, sub_ns, fan, user, switching).build()
 
 
 class _SubsystemView:
     def __init__(self, types: Types, sub: Subsystem, agent_ns: str, sub_ns: str,
-                 fan: dict[tuple[str, str], int], user: UserFiles) -> None:
+                 fan: dict[tuple[str, str], int], user: UserFiles, switching: bool = False) -> None:
         self.types = types
+        self.switching = switching
         self.sub = sub
         self.agent_ns = agent_ns
         self.sub_ns = sub_ns
         self.fan = fan
         self.user = user
-        self.scope = Scope(_SUBSYSTEM_RESERVED)
+        self.scope = Scope(_SUBSYSTEM_RESERVED + (_SWITCHING_RESERVED if switching else ()))
         self.namespace = f"{types.ns}::{agent_ns}::{sub_ns}"
         self.user_dir = f"{agent_ns}/{sub_ns}"
         self.storage: dict[str, Storage] = {}
@@ -111,6 +115,7 @@ class _SubsystemView:
             "initial": state_index[fsm.initial], "groups": groups, "activations": activations,
             "queued": [p for p in self.ports.values() if p["queue"]],
             "block_id": sub.block_id, "port_members": {t: p["member"] for t, p in self.ports.items()},
+            "switching": self.switching, "quiescent": _quiescent(fsm.states) if self.switching else [],
         }
 
     # ------------------------------------------------------------------ data
@@ -137,7 +142,8 @@ class _SubsystemView:
         for port in ports.values():
             port["count_name"] = f"{port['member']}_count"
             queue = f", {port['queue']}" if port["queue"] else ""
-            port["cpp_type"] = (f"earl::{'InputPort' if port['kind'] == 'ib' else 'OutputPort'}"
+            inputs = "SwitchedInputPort" if self.switching else "InputPort"
+            port["cpp_type"] = (f"earl::{inputs if port['kind'] == 'ib' else 'OutputPort'}"
                                 f"<{port['type']}, {port['links']}{queue}>")
             if port["replicated"]:
                 port["cpp_type"] = f"std::array<{port['cpp_type']}, {port['count']}>"
@@ -354,6 +360,15 @@ def activation_rows(sub: Subsystem, ports: dict[str, Data], scope: Scope) -> tup
                      "first_timeout": _nanoseconds(activation.first_timeout),
                      "next_timeout": _nanoseconds(activation.next_timeout), "comment": cpp_comment(state.name)})
     return list(groups.values()), rows
+
+
+def _quiescent(states: tuple[State, ...]) -> list[Data]:
+    """Per state, whether a switch may stop its agent there; [] when no state is declared
+    quiescent (then in any state)."""
+    flags = [state.quiescent for state in states]
+    if not any(flags):
+        return []
+    return [{"quiescent": flag, "comment": cpp_comment(state.name)} for flag, state in zip(flags, states)]
 
 
 def _nanoseconds(seconds: float | None) -> int:

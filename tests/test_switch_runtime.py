@@ -1,0 +1,130 @@
+"""Variable structure in the C++ runtime (``earl/switch.hpp``), on the hand-written system of
+``tests/cpp/test_switch.cpp``: task/a hands numbered commands over between manipA/a and
+manipB/a, 20 switches per run.
+
+* deterministic: two runs give byte-identical traces; every command is received exactly once,
+  in order, by the manipulator of the configuration it was sent in; nothing is undelivered;
+* a short switch timeout: the switch ends by it within the timeout, and every command is
+  received or counted undelivered, never both, never lost silently;
+* threaded, one busy process per CPU: the same in every run, 0 heap allocations while running;
+* sensitivity control: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``, test-only)
+  fails these checks in at least one run, so the checks can fail.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from tests.support.load import cpu_hogs
+
+ROOT = Path(__file__).resolve().parents[1]
+RUNTIME = ROOT / "transforms" / "cpp" / "runtime"
+SOURCE = ROOT / "tests" / "cpp" / "test_switch.cpp"
+CXXFLAGS = ["-std=c++17", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic", "-pthread"]
+SWITCHES = 20
+PER = 50  # commands per configuration
+TIMEOUT_MS = 50.0
+THREADED_RUNS = 10
+SWITCH_LINE = re.compile(r"^switch (useA -> useB|useB -> useA) in (\d+) cycles$")
+
+pytestmark = pytest.mark.skipif(shutil.which("g++") is None, reason="g++ is needed")
+
+
+def build(folder: Path, *defines: str) -> Path:
+    binary = folder / "test_switch"
+    command = ["g++", *CXXFLAGS, *defines, "-I", str(RUNTIME), str(SOURCE), "-o", str(binary)]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, f"build failed:\n{result.stderr}"
+    return binary
+
+
+@pytest.fixture(scope="module")
+def drained(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return build(tmp_path_factory.mktemp("switch"))
+
+
+@pytest.fixture(scope="module")
+def undrained(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return build(tmp_path_factory.mktemp("switch_undrained"), "-DEARL_SWITCH_DRAIN=0")
+
+
+def run(binary: Path, *args: str) -> list[str]:
+    result = subprocess.run([str(binary), *args, "--switches", str(SWITCHES), "--per", str(PER)],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    return result.stdout.splitlines()
+
+
+def summary(lines: list[str]) -> dict[str, int | str]:
+    words = lines[-1].split()
+    assert words[0] == "summary", lines[-1]
+    return {key: int(value) if value.lstrip("-").isdigit() else value for key, value in zip(words[1::2], words[2::2])}
+
+
+def violations(s: dict[str, int | str], timeout_ms: float = TIMEOUT_MS) -> list[str]:
+    """What a correct switch must never show: empty when every command was received exactly
+    once, in order, by the manipulator of its configuration, and every switch kept its bound."""
+    found = [f"{key} {s[key]}" for key in ("lost", "duplicates", "misrouted", "out_of_order", "overlaps",
+                                            "undelivered", "overflows", "timeouts", "allocations") if s[key] != 0]
+    if s["sent"] != (SWITCHES + 1) * PER or s["received"] != s["sent"]:
+        found.append(f"sent {s['sent']} received {s['received']}")
+    if s["switches"] != SWITCHES:
+        found.append(f"switches {s['switches']}")
+    if int(s["max_latency_ns"]) > timeout_ms * 1e6:
+        found.append(f"latency {s['max_latency_ns']} ns")
+    return found
+
+
+def test_the_deterministic_run_is_repeatable_and_loses_nothing(drained: Path) -> None:
+    first = run(drained, "--cycles", "3000")
+    assert run(drained, "--cycles", "3000") == first
+    s = summary(first)
+    assert violations(s) == []
+    switches = [SWITCH_LINE.match(line) for line in first if line.startswith("switch ")]
+    assert len(switches) == SWITCHES and all(switches)
+    assert all(1 <= int(m.group(2)) <= TIMEOUT_MS for m in switches if m)  # 1 cycle = 1 ms
+    # the task enters its new state only once the switch has opened
+    for index, line in enumerate(first):
+        if line.startswith("switch "):
+            assert re.match(r"^step \d+ task/a\.cs: with(A|B) -> with(A|B) ", first[index + 1]), first[index + 1]
+    # manipA/a restarts (FSM at idle again: a start line each time it joins), manipB/a resumes
+    assert s["restarts_a"] == SWITCHES // 2 and s["restarts_b"] == 1
+    assert sum(line.startswith("step ") and "manipA/a.cs: start in idle" in line for line in first) == SWITCHES // 2 + 1
+    assert sum("manipB/a.cs: start in idle" in line for line in first) == 1
+    assert s["statuses"] == "yes"
+
+
+def test_a_switch_ends_by_its_timeout_and_counts_what_it_clears(drained: Path) -> None:
+    lines = run(drained, "--cycles", "3000", "--timeout-ms", "5")
+    s = summary(lines)
+    assert s["timeouts"] == SWITCHES and s["switches"] == SWITCHES
+    assert s["max_latency_cycles"] <= 5
+    assert int(s["undelivered"]) > 0 and s["lost"] == s["undelivered"]  # counted once, never silent
+    assert s["duplicates"] == s["misrouted"] == s["out_of_order"] == s["overlaps"] == 0
+    reported = sum(int(m.group(1)) for m in map(re.compile(r"^link task/a,manip[AB]/a: (\d+) value\(s\) "
+                                                            r"undelivered at switch$").match, lines) if m)
+    assert reported == s["undelivered"]
+
+
+def test_threaded_runs_under_load_deliver_every_command_once(drained: Path) -> None:
+    failures = []
+    with cpu_hogs():
+        for attempt in range(THREADED_RUNS):
+            found = violations(summary(run(drained, "--threaded")))
+            if found:
+                failures.append(f"run {attempt + 1}: {found}")
+    assert not failures, "\n".join(failures)
+
+
+def test_the_checks_catch_a_switch_that_skips_the_drain(undrained: Path) -> None:
+    assert violations(summary(run(undrained, "--cycles", "3000")))
+    failed = 0
+    with cpu_hogs():
+        for _ in range(THREADED_RUNS):
+            failed += bool(violations(summary(run(undrained, "--threaded"))))
+    assert failed >= 1

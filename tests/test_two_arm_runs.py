@@ -1,0 +1,163 @@
+"""The variable-structure sample runs as C++: ``samples/two_arm`` generated with its shipped user
+code (``samples/two_arm/user/``), built with CMake (warnings are errors) and run by the system
+executor. task/a.cs sends 201 numbered commands and hands the job over between manipA/a and
+manipB/a 20 times (configurations useA and useB); each arm prints the seq of every command it
+takes, task/a the arm it sent each one to, the runtime every switch and every value a switch
+could not deliver.
+
+* deterministic: two runs give byte-identical traces, and pass the checks below;
+* threaded, with one busy process per CPU: 50 runs, every one passes the checks below;
+* 0 heap allocations per cycle, switches included, stepped and threaded;
+* sensitivity control: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``, test-only)
+  fails the checks in at least one of 50 threaded runs.
+
+The checks: every numbered command is taken exactly once, by the arm of the configuration it
+was sent in; no value is undelivered at a switch and no queue overflows; 20 switches, each
+within the configuration's switchTimeout (50 ms: 50 cycles of 1 ms, or 50 ms measured).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.support.load import cpu_hogs, run_until
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "two_arm" / "two_arm.uml"
+USER = SAMPLE.parent / "user"
+COMMANDS = 201  # 10 per configuration before each of the 20 hand-overs, then one more
+SWITCHES = 20
+TIMEOUT_MS = 50.0
+CYCLES = 6000
+LOADED_RUNS = 50
+RUN_TIMEOUT = 10.0  # s per threaded run: the sample needs about 0.25 s
+
+SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
+TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
+SWITCH = re.compile(r"^switch (use[AB]) -> (use[AB]) in (\d+(?:\.\d+)?) (cycles|ms)$")
+FINISHED = re.compile(r"^step \d+ task/a\.cs: with[AB] -> finished ")
+
+pytestmark = [
+    pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
+                       reason="g++ and cmake are needed"),
+    pytest.mark.skipif(not SAMPLE.exists(), reason="the two-arm sample is not in this checkout"),
+]
+
+
+def run(*command: str | Path, timeout: int = 300) -> str:
+    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout)
+    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout}\n{result.stderr}"
+    return result.stdout
+
+
+def build(out: Path, folder: Path, *flags: str) -> Path:
+    run("cmake", "-S", out, "-B", folder, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
+        "-DCMAKE_CXX_FLAGS=" + " ".join(("-Wall", "-Wextra", "-Werror", *flags)))
+    run("cmake", "--build", folder, "-j", "2", "--target", "TwoArm_system")
+    return folder / "TwoArm_system"
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """gen's output: the sample's user code copied into an empty folder, gen run over it."""
+    out = tmp_path_factory.mktemp("two_arm") / "out"
+    shutil.copytree(USER, out / "user")
+    gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
+    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))], gen
+    return out
+
+
+@pytest.fixture(scope="module")
+def drained(generated: Path) -> Path:
+    return build(generated, generated.parent / "build")
+
+
+@pytest.fixture(scope="module")
+def undrained(generated: Path) -> Path:
+    return build(generated, generated.parent / "build_undrained", "-DEARL_SWITCH_DRAIN=0")
+
+
+def problems(lines: list[str]) -> list[str]:
+    """What the run shows against the checks of this module; empty when it passes them."""
+    sent: dict[int, str] = {}
+    found: list[str] = []
+    for match in filter(None, map(SENT.match, lines)):
+        seq, arm = int(match.group(1)), match.group(2)
+        if seq in sent:
+            found.append(f"seq {seq} sent twice")
+        sent[seq] = arm
+    if sorted(sent) != list(range(1, COMMANDS + 1)):
+        found.append(f"{len(sent)} numbered commands sent, not 1..{COMMANDS}")
+    taken: dict[int, list[str]] = {}
+    for match in filter(None, map(TOOK.match, lines)):
+        taken.setdefault(int(match.group(2)), []).append(match.group(1))
+    for seq, arm in sorted(sent.items()):
+        arms = taken.get(seq, [])
+        if arms != [arm]:
+            found.append(f"seq {seq} sent to {arm}, taken by {arms or 'none'}")
+    found += [f"taken but never sent: {seq}" for seq in sorted(set(taken) - set(sent))]
+    switches = [m for m in map(SWITCH.match, lines) if m]
+    if len(switches) != SWITCHES:
+        found.append(f"{len(switches)} switches")
+    found += [f"{m.group(0)}: beyond {TIMEOUT_MS} ms" for m in switches if float(m.group(3)) > TIMEOUT_MS]
+    found += [line for line in lines if "undelivered at switch" in line or "overflowed" in line]
+    return found[:12]
+
+
+def finished(lines: list[str]) -> bool:
+    """task/a has finished and the last command was taken (or a second passed since)."""
+    return any(FINISHED.match(line) for line in lines) and any(line.endswith(f"took seq {COMMANDS}")
+                                                                  for line in lines)
+
+
+def threaded_run(binary: Path) -> list[str]:
+    lines, _ = run_until([binary, "--threaded", str(RUN_TIMEOUT)], finished, RUN_TIMEOUT, graceful=False)
+    return lines
+
+
+def test_the_deterministic_run_is_repeatable_and_hands_every_command_over(drained: Path) -> None:
+    first = run(drained, "--cycles", str(CYCLES)).splitlines()
+    assert run(drained, "--cycles", str(CYCLES)).splitlines() == first
+    assert problems(first) == []
+    assert all(m.group(4) == "cycles" for m in map(SWITCH.match, first) if m)
+    assert first[-1] == f"ran TwoArmCell for {CYCLES} cycles"
+
+
+def test_threaded_runs_under_load_hand_every_command_over(drained: Path) -> None:
+    failures = []
+    with cpu_hogs():
+        for attempt in range(LOADED_RUNS):
+            found = problems(threaded_run(drained))
+            if found:
+                failures.append(f"run {attempt + 1}: {found}")
+    assert not failures, f"{len(failures)} of {LOADED_RUNS} runs failed:\n" + "\n".join(failures)
+
+
+def test_the_checks_catch_a_switch_that_skips_the_drain(undrained: Path) -> None:
+    assert problems(run(undrained, "--cycles", str(CYCLES)).splitlines())
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(LOADED_RUNS) if problems(threaded_run(undrained))), None)
+    assert caught is not None, f"all {LOADED_RUNS} runs of the drain-skipping build passed the checks"
+
+
+def test_no_heap_allocation_per_cycle_switches_included(generated: Path) -> None:
+    binary = generated.parent / "two_arm_alloc"
+    sources = ROOT / "bench" / "cpp"
+    run("g++", "-std=c++17", "-O2", "-DNDEBUG", "-Wall", "-Wextra", "-Werror", "-pthread",
+        f"-I{generated / 'runtime'}", f"-I{generated / 'generated' / 'include'}", f"-I{generated / 'user'}",
+        f"-I{sources}", ROOT / "tests" / "cpp" / "two_arm_alloc.cpp", sources / "count_new.cpp", "-o", binary)
+    result = subprocess.run([str(binary), "--cycles", str(CYCLES), "--threaded", "0.5"], capture_output=True,
+                            text=True, timeout=60, env={**os.environ, "TWO_ARM_QUIET": "1"})
+    assert result.returncode == 0, result.stderr
+    [report] = [json.loads(line) for line in result.stdout.splitlines() if line.startswith("{\"")]
+    assert report["switches"] == SWITCHES and report["threaded_switches"] == SWITCHES, report
+    assert report["allocations"] == 0 and report["threaded_allocations"] == 0, report
+    assert report["threaded_start_allocations"] > 0  # creating the threads allocates: the counter works

@@ -1,0 +1,207 @@
+"""verify on a variable structure, with the real SPIN: the hand-over fixture (a task switching
+its commands between two manipulators) proves the switch checks V006-V008 and a property over
+the new atoms; a manipulator that can get stuck in a non-quiescent state with commands queued
+loses them (V006), one whose quiescent state is out of reach of a leaving run only stops by the
+timeout (V007); the counterexamples name the switch, the stuck state and the values cleared."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from earl_m2t.api import load
+from earl_m2t.cli.app import main
+from earl_m2t.model.directives import LtlProperty
+from earl_m2t.model.location import Location
+from earl_m2t.verify import spin
+from earl_m2t.verify.ltl import AgentAtom, ConfigAtom, LtlError, StateAtom, SwitchingAtom, tokens
+from earl_m2t.verify.promela import translate
+from earl_m2t.verify.run import Finding, TraceStep
+from earl_m2t.verify.sequence import counterexample_dot
+
+ROOT = Path(__file__).resolve().parents[1]
+FIXTURE = ROOT / "tests" / "fixtures" / "variability" / "handover.sysml"
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml"
+EXCLUSIVE = "[] (config@useB -> !manipA/a@active)"
+PROVEN = ("no switch loses values", "every switch can end without its timeout",
+          "exclusivity: agents that share no configuration never run together (manipA/a and manipB/a)")
+
+# a state that never receives and is not quiescent, entered from moving while commands wait
+STUCK = [
+    ('            metadata commands : Group { obligatory = "command/ib"; optional = ""; }\n',
+     '            metadata commands : Group { obligatory = "command/ib"; optional = ""; }\n'
+     '            metadata nothing : Group { obligatory = ""; optional = ""; }\n'
+     "            attribute 'faults/m' : Integer;\n"
+     "            calc def 'fault/pp' { return : Boolean; 'faults/mi'.data > 0 }\n"),
+    ("                transition 'idle,moving/t' first idle then moving {\n",
+     "                state stuck {\n"
+     '                    @Activation { bufferGroup = "nothing"; }\n'
+     "                    do action 'stuck/bb' { first start; then done; constraint tc { false } "
+     "constraint ec { false } }\n"
+     "                }\n"
+     "                transition 'moving,stuck/t' first moving then stuck { language \"EARL\" /* fault/pp */ }\n"
+     "                transition 'idle,moving/t' first idle then moving {\n"),
+]
+# moving quiescent instead of idle: a manipulator leaving in idle waits there for ever
+QUIET_MOVING = [
+    ("                    @Quiescent;\n", ""),
+    ("                state moving {\n", "                state moving {\n                    @Quiescent;\n"),
+]
+
+
+def _variant(tmp_path: Path, replacements: list[tuple[str, str]]) -> Path:
+    text = FIXTURE.read_text(encoding="utf-8")
+    for old, new in replacements:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    path = tmp_path / "variant.sysml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _property(text: str) -> LtlProperty:
+    return LtlProperty("p", text, Location("--ltl", 1, 1))
+
+
+def test_the_fixture_proves_the_switch_checks_and_its_exclusivity(capsys: pytest.CaptureFixture[str]) -> None:
+    ends = "[] (switching -> <> !switching)"
+    code = main(["verify", str(FIXTURE), "--format", "json", "--ltl", EXCLUSIVE, "--ltl", ends,
+                 "--ltl", "[] !manipB/a@active"])
+    result = json.loads(capsys.readouterr().out)
+
+    assert code == 1 and result["not_proven"] == []
+    assert all(any(line.startswith(text) for line in result["proven"]) for text in PROVEN), result["proven"]
+    assert f"{EXCLUSIVE} holds" in result["proven"] and f"{ends} holds" in result["proven"]
+    (finding,) = result["findings"]  # manipB/a runs once a switch to useB is done
+    assert finding["code"] == "V005"
+    whys = [step["by"] for step in finding["trace"]]
+    assert any("the switch useA → useB begins, leaving: manipA/a" in why for why in whys), whys
+    assert any(why.startswith("the drain: quiescent in manipA/a.cs@idle") for why in whys), whys
+    assert whys[-1] == "the switch useA → useB is done: manipB/a resumes"
+
+
+def test_a_manipulator_stuck_with_commands_queued_loses_them(tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["verify", str(_variant(tmp_path, STUCK))])
+    out = capsys.readouterr().out
+
+    assert code == 1
+    (finding,) = [line for line in out.splitlines() if " V006 error: " in line]
+    assert "a switch can lose values on task/a,manip" in finding
+    assert "ends by its timeout with" in finding and "@stuck, not quiescent" in finding
+    trace = out.split(" counterexample:\n", 1)[1].split("\nproven:", 1)[0].splitlines()
+    assert trace[-3].endswith("task/a.cs: switching → timed out by the switch timeout: nothing else can move")
+    assert "running → stopped by the switch timeout: stuck in manip" in trace[-2] and trace[-2].endswith("@stuck")
+    assert trace[-1].endswith("queued → cleared by the switch timeout: undelivered")
+    assert any("→ stuck by moving,stuck/t" in line for line in trace)
+    assert " V007 " not in out  # the loss is a switch its timeout ended: reported once
+    assert "proven: exclusivity" in out
+
+
+def test_a_leaving_manipulator_that_cannot_reach_a_quiescent_state_stops_by_the_timeout(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["verify", str(_variant(tmp_path, QUIET_MOVING)), "--format", "json"])
+    result = json.loads(capsys.readouterr().out)
+
+    assert code == 1
+    (finding,) = [f for f in result["findings"] if f["code"] == "V007"]
+    assert finding["element"] == "manipA/a" or finding["element"] == "manipB/a"
+    assert "can only end by its timeout" in finding["message"] and "@idle, not quiescent" in finding["message"]
+    assert any(line.startswith("no switch loses values") for line in result["proven"])
+
+
+def test_the_atoms_of_a_variable_structure() -> None:
+    model = load(FIXTURE).model
+    written = tokens(_property("[] (config@useB && switching -> manipA/a@active || manipA/a.cs@idle)"), model)
+    assert ConfigAtom("useB") in written and SwitchingAtom() in written
+    assert AgentAtom("manipA/a") in written and StateAtom("manipA/a.cs", "idle") in written
+    spec = translate(model, (_property("[] (config@useB -> !manipA/a@active)"),))
+    assert spec.formulas["p"] == "[] ( (cfg == 1) -> ! active0 )"
+    with pytest.raises(LtlError, match="no configuration useC"):
+        tokens(_property("[] config@useC"), model)
+    with pytest.raises(LtlError, match="no agent manipC/a"):
+        tokens(_property("[] manipC/a@active"), model)
+
+
+def test_a_fixed_structure_reads_the_atoms_as_constants() -> None:
+    model = load(SAMPLE).model
+    spec = translate(model, (_property("[] (!switching && manip/a@active)"),))
+    assert spec.formulas["p"] == "[] ( ! false && true )"
+    assert "switching" not in spec.text.split("ltl p")[0]
+
+
+def test_the_promela_of_the_fixture_encodes_the_switch() -> None:
+    text = translate(load(FIXTURE).model).text
+    assert "byte cfg = 0; /* configuration: 0=useA 1=useB */" in text
+    assert "bool active0 = true; /* manipA/a is running */" in text
+    assert "bool active1 = false; /* manipB/a is running */" in text
+    # the task's command reaches manipB/a only while useB holds and no switch closes it
+    assert "if :: (cfg == 1) && (!switching || nxt == 1) && q1 < 32 -> q1++ :: else -> skip fi" in text
+    # leaving manipA/a stops in its quiescent idle with its commands received
+    assert "leaving0 && active0 && (st0 == 0) && q0 == 0 -> active0 = false" in text
+    assert "timeout && switching" in text
+
+
+# the task waits for the manipulators' status in withB: status/ib, which both manipulators'
+# variable links deliver to, is counted per link; the manipulators restart when they join
+PER_LINK = [
+    ("            port 'status/ib' : InputBuffer { attribute :>> msg : DataTypes::Status; }\n",
+     "            port 'status/ib' : InputBuffer {\n"
+     "                attribute :>> msg : DataTypes::Status;\n"
+     "                @Receive { receive = ReceiveMode::queue; queueSize = 2; }\n"
+     "            }\n"
+     '            metadata statuses : Group { obligatory = "status/ib"; optional = ""; }\n'),
+    ('                    @Reconfigure { configuration = "useB"; }\n',
+     '                    @Reconfigure { configuration = "useB"; }\n'
+     '                    @Activation { bufferGroup = "statuses"; }\n'),
+    ("@AgentReactivation { reactivation = Reactivation::resume; }",
+     "@AgentReactivation { reactivation = Reactivation::restart; }"),
+]
+
+
+def test_an_input_of_two_variable_links_counts_per_link(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _variant(tmp_path, PER_LINK)
+    text = translate(load(path).model).text
+    assert "byte q2 = 0; /* task/a.cs.status/ib by manipA/a,task/a, up to 2 */" in text
+    assert "byte q3 = 0; /* task/a.cs.status/ib by manipB/a,task/a, up to 2 */" in text
+    assert "if :: (cfg == 0) && (!switching || nxt == 0) && (q2 + q3) < 2 -> q2++ :: else -> skip fi" in text
+    assert "if :: q2 > 0 -> q2-- :: q3 > 0 -> q3-- :: else -> skip fi" in text
+    assert "st0 = (active0 -> st0 : 0); q0 = (active0 -> q0 : 0); active0 = true" in text  # restarts
+
+    code = main(["verify", str(path), "--format", "json"])
+    result = json.loads(capsys.readouterr().out)
+    # withB waits for a status that manipB/a, waiting for a command, never sends
+    assert code == 1 and {f["code"] for f in result["findings"]} == {"V002"}
+    assert all(any(line.startswith(text) for line in result["proven"]) for text in PROVEN), result["proven"]
+
+
+def test_a_counterexample_diagram_has_lifelines_for_the_agents_and_links_of_a_switch() -> None:
+    model = load(FIXTURE).model
+    trace = (TraceStep(1, "task/a.cs", "switching", "timed out", "the switch timeout: nothing else can move", ()),
+             TraceStep(2, "manipA/a", "running", "stopped", "the switch timeout: stuck in manipA/a.cs@moving", ()),
+             TraceStep(3, "task/a,manipA/a", "1 queued", "cleared", "the switch timeout: undelivered", ()))
+    finding = Finding("V006", "a switch can lose values", "task/a,manipA/a", Location("x.sysml", 1), trace)
+    dot = counterexample_dot(model, finding).decode()
+    assert '<font point-size="8" color="#5d6d7e"></font>' not in dot  # Graphviz rejects an empty line
+    assert "<b>manipA/a</b><br/>" in dot and ">agent</font>" in dot and ">link</font>" in dot
+
+
+def test_a_latest_input_of_two_variable_links_keeps_the_newest_value(tmp_path: Path) -> None:
+    latest = [(old, new.replace("                @Receive { receive = ReceiveMode::queue; queueSize = 2; }\n", ""))
+              for old, new in PER_LINK]
+    spec = translate(load(_variant(tmp_path, latest)).model)
+    assert "if :: (cfg == 0) && (!switching || nxt == 0) -> q2 = 1; q3 = 0 :: else -> skip fi" in spec.text
+    assert "q2 = 0; q3 = 0" in spec.text  # an iteration receives the one value
+    spin.build(tmp_path, spec.text, "pan", ("-DSAFETY",), 120)  # SPIN and the compiler accept it
+
+
+def test_leaving_is_false_in_an_agent_that_is_always_present(tmp_path: Path) -> None:
+    path = _variant(tmp_path, [('constraint tc { language "EARL" /* handOver/pp */ }',  # withA's
+                                'constraint tc { language "EARL" /* handOver/pp and leaving() */ }')])
+    spec = translate(load(path).model)
+    task = spec.text.split("/* task/a.cs */", 1)[1].split("active proctype", 1)[0]
+    assert "&& leaving" not in task and "&& !leaving" not in task  # its outcomes take leaving() false
+    assert "/* withA: goes on */" in task and "/* withA: withA,withB/t" not in task  # so withA never ends
+    assert "/* withB: withB,withA/t */" in task
