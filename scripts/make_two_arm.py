@@ -60,10 +60,13 @@ MANIPULATOR_ACTIVATION = {"bufferGroup": "commands", "minPeriod": "0.0005", "fir
                           "nextTimeout": "0.02"}
 
 # Conditions of manipX/a.cs: a command is new when it arrived and carries a seq beyond the last
-# one taken (task/a repeats its last command once it has finished).
+# one taken (task/a repeats its last command once it has finished). While a switch removes the
+# arm (leaving()), moving ends at every iteration: a new command still continues the motion
+# (moving,moving/t wins by its priority), so the arm takes every command queued for it, and
+# once none is left it goes back to idle, where the switch stops it.
 NEW_COMMAND = "newData(manipulatorCommand/ib.msg.seq) ∧ manipulatorCommand/ib.msg.seq > lastSeq/mi.data"
 MOVING_TC = "motionFinished/pp.fun ∨ newCommand/pp.fun ∨ leaving()"
-NEXT_COMMAND = "newCommand/pp.fun ∧ ¬leaving()"
+NEXT_COMMAND = "newCommand/pp.fun"
 STOP_MOVING = "leaving() ∨ ¬newCommand/pp.fun"
 
 

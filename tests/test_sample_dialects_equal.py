@@ -118,7 +118,7 @@ def test_the_two_arm_sample_says_how_its_structure_varies() -> None:
     assert states("task/a", "configuration") == {"withA": "useA", "withB": "useB", "finished": None}
     assert states("manipA/a", "quiescent") == states("manipB/a", "quiescent") == {"idle": True, "moving": None}
     guards = [t["condition"] for t in agents["manipA/a"]["subsystems"][0]["fsm"]["transitions"]]
-    assert sum("leaving()" in guard for guard in guards) == 2
+    assert sum("leaving()" in guard for guard in guards) == 1
 
 
 @pytest.mark.parametrize(("sample", "name"), OTHERS)
