@@ -54,6 +54,7 @@ COMMANDS_PER_ARM = 10  # task/a hands the job over after this many commands to o
 HAND_OVERS = 20  # ... and has finished after this many hand-overs
 COMMAND_QUEUE = 32  # manipX/a.cs's manipulatorCommand/ib: task/a's commands, in order
 SWITCH_TIMEOUT = 0.05  # s: a switch that has not drained by then stops the leaving arm anyway
+ARM_A_OFF_IN_USE_B = "[] (config@useB -> !manipA/a@active)"
 # every state of a manipulator's cs: an iteration per command of task/a (waiting at most 100 ms
 # on entering a state, 20 ms later), at most one per 0.5 ms, so that it catches up when behind
 MANIPULATOR_ACTIVATION = {"bufferGroup": "commands", "minPeriod": "0.0005", "firstTimeout": "0.1",
@@ -211,6 +212,8 @@ def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
     for name, arm in (("useA", "manipA/a"), ("useB", "manipB/a")):
         system.configuration(name, agents=[arm], links=[f"task/a,{arm}", f"{arm},task/a"],
                              switch_timeout=SWITCH_TIMEOUT)
+    # A property `earl-m2t verify` proves: while useB holds, manipA/a does not run.
+    system.ltl_property("armAOffInUseB", ARM_A_OFF_IN_USE_B)
     return mb.to_bytes()
 
 
