@@ -33,10 +33,11 @@ ROOT = Path(__file__).resolve().parents[1]
 UML2 = ROOT / "tests" / "uml2"
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 # the Papyrus samples, by name: the file and its model's name; each applies the profile beside the
-# reference sample (two_arm.uml names ../pick_and_place/EARL.profile.uml)
+# reference sample (two_arm.uml and harmoniser.uml name ../pick_and_place/EARL.profile.uml)
 SAMPLES = {
     "pick_and_place": (SAMPLE, "PickAndPlace"),
     "two_arm": (ROOT / "samples" / "two_arm" / "two_arm.uml", "TwoArm"),
+    "harmoniser": (ROOT / "samples" / "harmoniser" / "harmoniser.uml", "Harmoniser"),
 }
 EARL_NS = "http:///schemas/EARL/"
 SYSML_NS = "http://www.eclipse.org/papyrus/sysml/"
