@@ -2,7 +2,8 @@
 
 The three XMI files of ``samples/pick_and_place/`` carry the same model (``scripts/make_sample.py``),
 and so do those of ``samples/two_arm/`` (``scripts/make_two_arm.py``) and of
-``samples/harmoniser/`` (``scripts/make_harmoniser.py``); each sample's ``.sysml`` says it by hand. Read by their dialects and lifted, a sample's files must give the same
+``samples/harmoniser/`` (``scripts/make_harmoniser.py``); each sample's ``.sysml`` says it by
+hand. Read by their dialects and lifted, a sample's files must give the same
 ``show --format json`` document, apart from what names the file (``file``, ``dialect``) and
 where things are in it (``line``, ``xmi_id``), and each must check clean.
 
