@@ -6,6 +6,10 @@ switches guiding → fallResponse → guiding. guide/a, whose reactivation is ``
 memory: the waypoints it leads to carry on from the last one before the fall, its commands'
 numbers too, and its FSM leaves ``waiting`` again at the next step of its own count.
 fallHelp/a, brought in for the first time, starts from its initial state.
+
+Sensitivity control: the same sample with guide/a restarted instead (its ``reactivation`` tag
+taken out of the SysML v2 file) leads from the first waypoint again after the fall, which the
+checks of the resumed agent reject.
 """
 
 from __future__ import annotations
@@ -20,7 +24,11 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
+SAMPLE_SYSML = SAMPLE.with_suffix(".sysml")
 USER = SAMPLE.parent / "user"
+# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
+GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
+                 "            part cs : GuideControl;\n")
 CYCLES = 140
 
 LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+)$")
@@ -39,18 +47,21 @@ def run(*command: str | Path, timeout: int = 300) -> str:
     return result.stdout
 
 
+def build(model: Path, folder: Path) -> Path:
+    """The sample's user code copied into ``folder/out``, gen run over it for ``model``, built."""
+    out = folder / "out"
+    shutil.copytree(USER, out / "user")
+    gen = run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "cpp", "-o", out)
+    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))], gen
+    run("cmake", "-S", out, "-B", folder / "build", "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
+        "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
+    run("cmake", "--build", folder / "build", "-j", "2", "--target", "Harmoniser_system")
+    return folder / "build" / "Harmoniser_system"
+
+
 @pytest.fixture(scope="module")
 def binary(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The sample's user code copied into an empty folder, gen run over it, built."""
-    out = tmp_path_factory.mktemp("harmoniser") / "out"
-    shutil.copytree(USER, out / "user")
-    gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
-    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))], gen
-    build = out.parent / "build"
-    run("cmake", "-S", out, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-        "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
-    run("cmake", "--build", build, "-j", "2", "--target", "Harmoniser_system")
-    return build / "Harmoniser_system"
+    return build(SAMPLE, tmp_path_factory.mktemp("harmoniser"))
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +78,8 @@ def test_the_fall_switches_to_fall_response_and_back(trace: list[str]) -> None:
     assert not [line for line in trace if "undelivered at switch" in line or "overflowed" in line]
 
 
-def test_the_resumed_guide_agent_goes_on_from_its_state_and_memory(trace: list[str]) -> None:
+def assert_resumed(trace: list[str]) -> None:
+    """Asserts that guide/a, resumed after the fall, goes on from its state and memory."""
     fall = next(i for i, line in enumerate(trace) if SWITCH.match(line) and "-> fallResponse" in line)
     back = next(i for i, line in enumerate(trace) if SWITCH.match(line) and "fallResponse -> guiding" in line)
     before, after = trace[:fall], trace[back:]
@@ -93,6 +105,22 @@ def test_the_resumed_guide_agent_goes_on_from_its_state_and_memory(trace: list[s
     commands_before = waypoints_before[-1] + 1  # the first park, then one command per waypoint
     (first_park_after, *_) = [int(m.group(1)) for m in map(PARK.match, after) if m]
     assert first_park_after == commands_before + 1
+
+
+def test_the_resumed_guide_agent_goes_on_from_its_state_and_memory(trace: list[str]) -> None:
+    assert_resumed(trace)
+
+
+def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path) -> None:
+    text = SAMPLE_SYSML.read_text(encoding="utf-8")
+    assert text.count(GUIDE_RESUMES) == 1
+    restarted = tmp_path / "harmoniser.sysml"
+    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
+    lines = run(build(restarted, tmp_path), "--cycles", str(CYCLES)).splitlines()
+    back = next(i for i, line in enumerate(lines) if line.startswith("switch fallResponse -> guiding"))
+    assert next(m for m in map(LEAD.match, lines[back:]) if m).group(1) == "1"
+    with pytest.raises(AssertionError):
+        assert_resumed(lines)
 
 
 def test_the_fall_help_agent_starts_from_its_initial_state(trace: list[str]) -> None:
