@@ -35,13 +35,13 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from tests.support.sample_kit import (  # noqa: E402
-    DIALECTS,
     Block,
     Package,
     Property,
     inter_agent_link,
     link,
     single_state,
+    start_model,
     write_dialects,
 )
 
@@ -239,9 +239,7 @@ def task_control(pkg: Package, dt: DataTypes, name: str, active: str, progress: 
 def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
     """Build the sample in ``dialect`` and return its XMI; ``stereotypes=False`` gives the
     suffix-only variant."""
-    kit = DIALECTS[dialect]
-    options = {"profile_location": PAPYRUS_PROFILE} if dialect == "papyrus" else {}
-    mb = kit.model_builder("Harmoniser", stereotypes=stereotypes, **options)
+    kit, mb = start_model(dialect, "Harmoniser", stereotypes, PAPYRUS_PROFILE)
     mb.comment(
         "Task harmonisation on a TIAGo-like robot: a harmoniser agent brings in the agent of the task in hand, "
         "guiding a person or responding to their fall; the system's structure varies with the task."
