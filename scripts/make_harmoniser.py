@@ -57,7 +57,7 @@ ARM_JOINTS = 7
 SCAN_RAYS = 32
 SWITCH_TIMEOUT = 0.5  # s: a switch that has not drained by then stops the leaving task agent anyway
 GUIDE_OFF_IN_FALL_RESPONSE = "[] (config@fallResponse -> !guide/a@active)"
-# the task agents: the link each one has to and from tiago/a.cs, by configuration
+# the task agents, by the configuration that brings each one in with its links to and from tiago/a.cs
 TASKS = {"guiding": "guide/a", "fallResponse": "fallHelp/a"}
 
 
