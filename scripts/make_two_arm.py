@@ -33,11 +33,11 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from tests.support.sample_kit import (  # noqa: E402
-    DIALECTS,
     Block,
     Package,
     Property,
     inter_agent_link,
+    start_model,
     write_dialects,
 )
 
@@ -172,9 +172,7 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
 def build(stereotypes: bool = True, dialect: str = "papyrus") -> bytes:
     """Build the sample in ``dialect`` and return its XMI; ``stereotypes=False`` gives the
     suffix-only variant."""
-    kit = DIALECTS[dialect]
-    options = {"profile_location": PAPYRUS_PROFILE} if dialect == "papyrus" else {}
-    mb = kit.model_builder("TwoArm", stereotypes=stereotypes, **options)
+    kit, mb = start_model(dialect, "TwoArm", stereotypes, PAPYRUS_PROFILE)
     mb.comment(
         "Two-arm hand-over cell: a task agent commands one of two manipulator agents at a time and hands the "
         f"job over between them {HAND_OVERS} times; the system's structure varies with the arm in use."

@@ -1,8 +1,9 @@
 """The samples, written by Papyrus, Cameo, Enterprise Architect and as SysML v2 text, lift to one EARL model.
 
 The three XMI files of ``samples/pick_and_place/`` carry the same model (``scripts/make_sample.py``),
-and so do those of ``samples/two_arm/`` (``scripts/make_two_arm.py``); each sample's ``.sysml``
-says it by hand. Read by their dialects and lifted, a sample's files must give the same
+and so do those of ``samples/two_arm/`` (``scripts/make_two_arm.py``) and of
+``samples/harmoniser/`` (``scripts/make_harmoniser.py``); each sample's ``.sysml`` says it by
+hand. Read by their dialects and lifted, a sample's files must give the same
 ``show --format json`` document, apart from what names the file (``file``, ``dialect``) and
 where things are in it (``line``, ``xmi_id``), and each must check clean.
 
@@ -37,17 +38,18 @@ FILES = {
     "cameo": SAMPLES / "pick_and_place.cameo.xmi",
     "ea": SAMPLES / "pick_and_place.ea.xml",
 }
-TWO_ARM = ROOT / "samples" / "two_arm"
-# every sample, by name: its file in each dialect (Papyrus first, the one the others are compared with)
-SAMPLE_FILES = {
-    "pick_and_place": {**FILES, "sysml": SAMPLES / "pick_and_place.sysml"},
-    "two_arm": {
-        "papyrus": TWO_ARM / "two_arm.uml",
-        "cameo": TWO_ARM / "two_arm.cameo.xmi",
-        "ea": TWO_ARM / "two_arm.ea.xml",
-        "sysml": TWO_ARM / "two_arm.sysml",
-    },
-}
+
+
+def dialect_files(sample: str) -> dict[str, Path]:
+    """The files of ``samples/SAMPLE/`` in each dialect, named after the sample (Papyrus first,
+    the one the others are compared with)."""
+    folder = ROOT / "samples" / sample
+    return {"papyrus": folder / f"{sample}.uml", "cameo": folder / f"{sample}.cameo.xmi",
+            "ea": folder / f"{sample}.ea.xml", "sysml": folder / f"{sample}.sysml"}
+
+
+# every sample, by name: its file in each dialect
+SAMPLE_FILES = {sample: dialect_files(sample) for sample in ("pick_and_place", "two_arm", "harmoniser")}
 DIALECTS = {"papyrus": "papyrus", "cameo": "cameo", "ea": "enterprise-architect", "sysml": "sysml-v2"}
 WHERE = frozenset({"file", "dialect", "line", "xmi_id"})
 EVERY = [(sample, name) for sample, files in SAMPLE_FILES.items() for name in files]
@@ -119,6 +121,36 @@ def test_the_two_arm_sample_says_how_its_structure_varies() -> None:
     assert states("manipA/a", "quiescent") == states("manipB/a", "quiescent") == {"idle": True, "moving": None}
     guards = [t["condition"] for t in agents["manipA/a"]["subsystems"][0]["fsm"]["transitions"]]
     assert sum("leaving()" in guard for guard in guards) == 1
+
+
+def test_the_harmoniser_sample_brings_each_task_agent_in_and_resumes_it() -> None:
+    """The harmoniser's variable structure: three configurations (one of them without a task
+    agent), two optional task agents that resume, the coordinator tha/a.cs and each task
+    agent's quiescent waiting state, left when leaving() is true."""
+    harmoniser = _papyrus("harmoniser")
+    assert harmoniser["earl"] is True and harmoniser["model"] == "Harmoniser"
+    (system,) = harmoniser["systems"]
+    assert [(c["name"], c["agents"], c["links"]) for c in system["configurations"]] == [
+        ("none", [], []),
+        ("guiding", ["guide/a"], ["guide/a,tiago/a", "tiago/a,guide/a"]),
+        ("fallResponse", ["fallHelp/a"], ["fallHelp/a,tiago/a", "tiago/a,fallHelp/a"]),
+    ]
+    agents = {agent["name"]: agent for agent in system["agents"]}
+    assert list(agents) == ["tiago/a", "tha/a", "guide/a", "fallHelp/a"]
+    assert {name: (agent.get("optional", False), agent.get("reactivation")) for name, agent in agents.items()} == {
+        "tiago/a": (False, None), "tha/a": (False, None),
+        "guide/a": (True, "resume"), "fallHelp/a": (True, "resume")}
+    assert [subsystem["name"] for subsystem in agents["tiago/a"]["subsystems"]] == [
+        "cs", "base/ve", "base/re", "arm/ve", "arm/re", "lidar/vr", "lidar/rr"]
+
+    def fsm(agent: str) -> dict[str, Any]:
+        return agents[agent]["subsystems"][0]["fsm"]
+
+    assert {s["name"]: s.get("configuration") for s in fsm("tha/a")["states"]} == {
+        "idle": "none", "guiding": "guiding", "fallResponse": "fallResponse"}
+    for task in ("guide/a", "fallHelp/a"):
+        assert {s["name"]: s.get("quiescent") for s in fsm(task)["states"]}["waiting"] is True
+        assert all("leaving()" in t["condition"] for t in fsm(task)["transitions"])
 
 
 @pytest.mark.parametrize(("sample", "name"), OTHERS)

@@ -2,7 +2,8 @@
 its commands between two manipulators) proves the switch checks V006-V008 and a property over
 the new atoms; a manipulator that can get stuck in a non-quiescent state with commands queued
 loses them (V006), one whose quiescent state is out of reach of a leaving run only stops by the
-timeout (V007); the counterexamples name the switch, the stuck state and the values cleared."""
+timeout (V007); the counterexamples name the switch, the stuck state and the values cleared.
+The harmoniser sample proves V006-V008 and its property in each of its four files."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import json
 from pathlib import Path
 
 import pytest
+from test_sample_dialects_equal import SAMPLE_FILES
 
 from earl_m2t.api import load
 from earl_m2t.cli.app import main
@@ -205,3 +207,28 @@ def test_leaving_is_false_in_an_agent_that_is_always_present(tmp_path: Path) -> 
     assert "&& leaving" not in task and "&& !leaving" not in task  # its outcomes take leaving() false
     assert "/* withA: goes on */" in task and "/* withA: withA,withB/t" not in task  # so withA never ends
     assert "/* withB: withB,withA/t */" in task
+
+
+HARMONISER_PROVEN = (
+    "no switch loses values", "every switch can end without its timeout",
+    "exclusivity: agents that share no configuration never run together (guide/a and fallHelp/a)",
+    "[] (config@fallResponse -> !guide/a@active) holds",
+)
+
+
+@pytest.mark.parametrize("dialect", ["papyrus", "cameo", "ea", "sysml"])
+def test_the_harmoniser_sample_proves_its_switches_lossless_and_its_property(
+    dialect: str, capsys: pytest.CaptureFixture[str],
+) -> None:
+    """samples/harmoniser in each dialect: V006-V008, the sample's «LtlProperty», and that
+    guide/a is only ever stopped (or not yet started) in its quiescent state waiting, where a
+    resume finds it."""
+    stopped_in_waiting = "[] (!guide/a@active -> guide/a.cs@waiting)"
+    path = SAMPLE_FILES["harmoniser"][dialect]
+    code = main(["verify", str(path), "--format", "json", "--ltl", stopped_in_waiting])
+    result = json.loads(capsys.readouterr().out)
+
+    assert code == 0 and result["findings"] == [] and result["not_proven"] == []
+    assert result["processes"] == ["tha/a.cs", "guide/a.cs", "fallHelp/a.cs"]
+    assert all(any(line.startswith(text) for line in result["proven"]) for text in HARMONISER_PROVEN), result
+    assert f"{stopped_in_waiting} holds" in result["proven"]

@@ -2,8 +2,9 @@
 helpers written against it.
 
 ``papyrus_builder``, ``cameo_builder`` and ``ea_builder`` have one API; the protocols below say
-the part of it that ``scripts/make_sample.py`` and ``scripts/make_two_arm.py`` use, so that a
-sample's content is written once and saved in each tool's dialect (:data:`DIALECTS`).
+the part of it that ``scripts/make_sample.py``, ``scripts/make_two_arm.py`` and
+``scripts/make_harmoniser.py`` use, so that a sample's content is written once and saved in
+each tool's dialect (:data:`DIALECTS`).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ __all__ = [
     "link",
     "port",
     "single_state",
+    "start_model",
     "write_dialects",
 ]
 
@@ -183,6 +185,15 @@ def inter_agent_link(
         end_at(port(dst_cs, f"{message}/ib"), *dst_path),
         "InterAgentLink",
     )
+
+
+def start_model(dialect: str, name: str, stereotypes: bool = True,
+                papyrus_profile: str | None = None) -> tuple[Dialect, ModelBuilder]:
+    """The dialect's builder and a new model ``name`` in it; a Papyrus model applies the profile
+    at ``papyrus_profile`` (a path relative to the sample) when one is given."""
+    kit = DIALECTS[dialect]
+    options = {"profile_location": papyrus_profile} if dialect == "papyrus" and papyrus_profile else {}
+    return kit, kit.model_builder(name, stereotypes=stereotypes, **options)
 
 
 def write_dialects(args: Sequence[str], files: Mapping[str, Path], build: Callable[..., bytes], root: Path) -> int:
