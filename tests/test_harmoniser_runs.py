@@ -16,11 +16,11 @@ from __future__ import annotations
 
 import re
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
@@ -41,22 +41,10 @@ pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cma
                                 reason="g++ and cmake are needed")
 
 
-def run(*command: str | Path, timeout: int = 300) -> str:
-    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout)
-    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout}\n{result.stderr}"
-    return result.stdout
-
-
 def build(model: Path, folder: Path) -> Path:
     """The sample's user code copied into ``folder/out``, gen run over it for ``model``, built."""
-    out = folder / "out"
-    shutil.copytree(USER, out / "user")
-    gen = run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "cpp", "-o", out)
-    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))], gen
-    run("cmake", "-S", out, "-B", folder / "build", "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-        "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
-    run("cmake", "--build", folder / "build", "-j", "2", "--target", "Harmoniser_system")
-    return folder / "build" / "Harmoniser_system"
+    out = generate_with_user_code(model, USER, folder / "out")
+    return cmake_build(out, folder / "build", "Harmoniser_system")
 
 
 @pytest.fixture(scope="module")

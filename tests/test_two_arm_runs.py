@@ -23,11 +23,11 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -49,27 +49,14 @@ pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cma
                                 reason="g++ and cmake are needed")
 
 
-def run(*command: str | Path, timeout: int = 300) -> str:
-    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout)
-    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout}\n{result.stderr}"
-    return result.stdout
-
-
 def build(out: Path, folder: Path, *flags: str) -> Path:
-    run("cmake", "-S", out, "-B", folder, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-        "-DCMAKE_CXX_FLAGS=" + " ".join(("-Wall", "-Wextra", "-Werror", *flags)))
-    run("cmake", "--build", folder, "-j", "2", "--target", "TwoArm_system")
-    return folder / "TwoArm_system"
+    return cmake_build(out, folder, "TwoArm_system", *flags)
 
 
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """gen's output: the sample's user code copied into an empty folder, gen run over it."""
-    out = tmp_path_factory.mktemp("two_arm") / "out"
-    shutil.copytree(USER, out / "user")
-    gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
-    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))], gen
-    return out
+    return generate_with_user_code(SAMPLE, USER, tmp_path_factory.mktemp("two_arm") / "out")
 
 
 @pytest.fixture(scope="module")

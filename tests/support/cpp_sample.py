@@ -1,0 +1,33 @@
+"""Building a sample's C++ as a user does: its shipped user code copied into an empty output
+folder, `gen --target cpp` over it (which must create no stub and find no orphan), and the
+CMake project built with warnings as errors."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+
+def run(*command: str | Path, timeout: int = 300) -> str:
+    """stdout of ``command``; a failure fails the test with both streams."""
+    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout)
+    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout}\n{result.stderr}"
+    return result.stdout
+
+
+def generate_with_user_code(model: Path, user: Path, out: Path) -> Path:
+    """``out`` holding ``user`` as ``out/user`` and what gen writes for ``model`` around it."""
+    shutil.copytree(user, out / "user")
+    gen = run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "cpp", "-o", out)
+    assert not [line for line in gen.splitlines() if line.startswith(("created ", "orphaned "))], gen
+    return out
+
+
+def cmake_build(source: Path, folder: Path, target: str, *flags: str) -> Path:
+    """The executable ``target`` of the project in ``source``, built in ``folder``."""
+    run("cmake", "-S", source, "-B", folder, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
+        "-DCMAKE_CXX_FLAGS=" + " ".join(("-Wall", "-Wextra", "-Werror", *flags)))
+    run("cmake", "--build", folder, "-j", "2", "--target", target)
+    return folder / target
