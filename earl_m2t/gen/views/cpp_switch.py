@@ -36,7 +36,7 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
     coordinator = variability.coordinator(model)
     if coordinator is None or coordinator.fsm is None:
         raise GenError(f"{system.path}: configurations, but no coordinator names them (rule X003)")
-    agent_paths, link_paths = _variable(system)
+    agent_paths, link_paths = variable_paths(system)
     by_agent = {a["path"]: a for a in agents}
     slots = {path: members.take(f"slot {by_agent[path]['member']}") for path in agent_paths}
     agent_of = {sub.path: a.path for a in system.agents for sub in a.subsystems}
@@ -78,10 +78,14 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
         "coordinator": f"{coordinator_agent}.{subsystems[coordinator.path]}",
         "coordinator_comment": cpp_comment(coordinator.path),
         "initial": index[initial.configuration], "initial_comment": cpp_comment(initial.configuration),
+        "agent_names": ", ".join(row["name"] for row in agent_rows) or "nullptr",
+        "reactivations": ", ".join(f"earl::Reactivation::{row['reactivation']}" for row in agent_rows)
+        or "earl::Reactivation::restart",
+        "link_names": ", ".join(row["name"] for row in link_rows) or "nullptr",
     }
 
 
-def _variable(system: System) -> tuple[list[str], list[str]]:
+def variable_paths(system: System) -> tuple[list[str], list[str]]:
     """The variable agents and links, in model order."""
     agents = set(variability.variable_agents(system))
     links = set(variability.variable_links(system))

@@ -251,6 +251,27 @@ class SwitchPrintObserver final : public SwitchObserver {
 // ------------------------------------------------------------------ agents
 
 class Switch;
+class AgentSlot;
+
+/// What a switched subsystem asks of the switch: the coordinator begins a switch and polls it
+/// once per iteration; a leaving agent asks whether every closed link into it is drained.
+/// Switch (below) does it in one process; earl/switch_protocol.hpp over a transport (ROS
+/// topics, RTT ports) between processes or components.
+class SwitchControl {
+ public:
+  /// 0 + 1 (decide, close): false when ``configuration`` is the current one (no switch).
+  virtual bool begin(std::size_t configuration) noexcept = 0;
+  /// true once the new configuration is open (the coordinator then enters its new state).
+  virtual bool poll() noexcept = 0;
+  /// Every closed link into ``agent`` is empty and no write to it is in flight.
+  virtual bool drained(const AgentSlot& agent) const noexcept = 0;
+  /// The coordinator (its period sets the polling interval); set by SwitchedSubsystem.
+  virtual void setCoordinator(const Component* coordinator) noexcept { (void)coordinator; }
+
+ protected:
+  SwitchControl() = default;
+  ~SwitchControl() = default;
+};
 
 /// One subsystem of a variable agent, as its agent and the switch see it. ``busy`` is set
 /// while the subsystem is inside an iteration (or deciding whether to run one).
@@ -306,6 +327,8 @@ class AgentSlot {
 
  private:
   friend class Switch;
+  template <std::size_t>
+  friend class SwitchMember;
   template <class>
   friend class SwitchedSubsystem;
 
@@ -324,7 +347,7 @@ class AgentSlot {
   std::atomic<Phase> phase_{Phase::active};
   std::atomic<std::uint32_t> epoch_{0};
   AgentMember* members_ = nullptr;
-  Switch* switch_ = nullptr;
+  SwitchControl* switch_ = nullptr;
   void* agent_ = nullptr;
   void (*clear_)(void*, Switch&) noexcept = nullptr;
 };
@@ -362,7 +385,7 @@ struct SwitchTables {
 };
 
 /// The switch protocol (see the top of this file), driven by the coordinator subsystem.
-class Switch {
+class Switch final : public SwitchControl {
  public:
   using Clock = std::chrono::steady_clock;
   static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
@@ -394,8 +417,7 @@ class Switch {
   /// ``period`` each. Otherwise (the default) it is measured on the steady clock.
   void countCycles(bool cycles) noexcept { cycles_ = cycles; }
   void setObserver(SwitchObserver* observer) noexcept { observer_ = observer; }
-  /// The coordinator (its period sets the polling interval); set by SwitchedSubsystem.
-  void setCoordinator(const Component* coordinator) noexcept { coordinator_ = coordinator; }
+  void setCoordinator(const Component* coordinator) noexcept override { coordinator_ = coordinator; }
 
   std::size_t current() const noexcept { return current_; }
   const char* name(std::size_t configuration) const noexcept { return tables_.names[configuration]; }
@@ -407,7 +429,7 @@ class Switch {
 
   /// 0 + 1 (decide, close), by the coordinator at the end of its iteration: false when
   /// ``configuration`` is the current one (no switch).
-  bool begin(std::size_t configuration) noexcept {
+  bool begin(std::size_t configuration) noexcept override {
     if (configuration == current_ || configuration >= tables_.configurations) return false;
     target_ = configuration;
     polls_ = 0;
@@ -424,7 +446,7 @@ class Switch {
 
   /// 2 + 3 + 4, by the coordinator once per iteration while switching: true once the new
   /// configuration is open (the coordinator then enters its new state).
-  bool poll() noexcept {
+  bool poll() noexcept override {
     if (!switching()) return true;
     ++polls_;
     if (!leftAll()) {
@@ -449,7 +471,7 @@ class Switch {
   }
 
   /// Drained: every closed link into ``agent`` is empty and no write to it is in flight.
-  bool drained(const AgentSlot& agent) const noexcept {
+  bool drained(const AgentSlot& agent) const noexcept override {
     for (std::size_t l = 0; l < tables_.linkCount; ++l) {
       const SwitchLink& link = links_[l];
       if (link.receiver != &agent || link.gate->isOpen()) continue;
@@ -563,7 +585,7 @@ class SwitchedSubsystem : public Component {
 
   /// At initialisation: the coordinator. ``configuration[state]`` is the index of the
   /// configuration the state names, -1 for none (the current one stays).
-  void coordinate(Switch& sw, const std::int16_t* configuration) noexcept {
+  void coordinate(SwitchControl& sw, const std::int16_t* configuration) noexcept {
     switch_ = &sw;
     configurations_ = configuration;
     sw.setCoordinator(this);
@@ -767,7 +789,7 @@ class SwitchedSubsystem : public Component {
   AgentSlot* agent_ = nullptr;
   bool control_ = false;
   AgentMember member_;
-  Switch* switch_ = nullptr;
+  SwitchControl* switch_ = nullptr;
   const std::int16_t* configurations_ = nullptr;
   const TransitionDef<Self>* pending_ = nullptr;
 };

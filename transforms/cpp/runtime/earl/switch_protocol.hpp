@@ -1,0 +1,470 @@
+// earl runtime: the switch of earl/switch.hpp between processes or components that share no
+// memory (ROS nodes, Orocos components). Same protocol and guarantees, in rounds: the
+// coordinator sends a SwitchCommand to every node (one subsystem instance each) and waits until
+// every node has acknowledged it with a SwitchAck before it sends the next round.
+//
+//   close     senders close their variable links that the new configuration lacks and
+//             report how many values they sent on each (cumulative counts); the agents that
+//             leave see leaving() true;
+//   drain     with the counts of the close: a receiver of a closed link acknowledges once that
+//             many values have arrived on it (the transport keeps each link's order) and, when
+//             its agent leaves, once it has read them all;
+//   stop      the control subsystem of a leaving agent stops at its first iteration boundary
+//             in a quiescent state (at once when forced: the switch timeout passed);
+//   park      every subsystem of a leaving agent stops; when forced, the values still queued
+//             for it, or still to arrive, are cleared and reported as undelivered, per link;
+//   activate  the joining agents are restarted or resumed;
+//   open      senders open the variable links of the new configuration; the coordinator then
+//             enters its new state.
+//
+// Every node acknowledges every round (at once for a round that does not concern it), so the
+// coordinator only counts acknowledgements. A transport delivers commands to SwitchMember::
+// command() and acknowledgements to SwitchCoordinator::ack(), in the thread that runs the
+// node's iterations; the node calls SwitchMember::boundary() between two iterations and sends
+// the acknowledgement it fills. Nothing allocates and nothing blocks: a round waits across
+// iterations. Part of earl-m2t's C++ target; header-only, C++17.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+
+#include "earl/component.hpp"
+#include "earl/switch.hpp"
+
+namespace earl {
+
+enum class SwitchRound : std::uint8_t { none = 0, close, drain, stop, park, activate, open };
+
+/// Coordinator -> every node.
+template <std::size_t Links>
+struct SwitchCommand {
+  std::uint32_t seq = 0;  // the switch, numbered from 1
+  SwitchRound round = SwitchRound::none;
+  std::uint16_t from = 0;  // configurations
+  std::uint16_t to = 0;
+  bool forced = false;  // the switch timeout passed
+  /// From the drain on: per variable link, the values sent on it before it closed.
+  std::array<std::uint64_t, Links> counts{};
+};
+
+/// Node -> coordinator.
+template <std::size_t Links>
+struct SwitchAck {
+  std::uint32_t seq = 0;
+  SwitchRound round = SwitchRound::none;
+  std::uint16_t node = 0;
+  /// close: the values this node sent on each variable link it sends (0 for the others);
+  /// park: the values of each link into it that were undelivered.
+  std::array<std::uint64_t, Links> counts{};
+};
+
+namespace detail {
+inline bool hasLink(const SwitchTables& t, std::size_t c, std::size_t l) noexcept { return t.links[c * t.linkCount + l]; }
+inline bool hasAgent(const SwitchTables& t, std::size_t c, std::size_t a) noexcept {
+  return t.agents[c * t.agentCount + a];
+}
+}  // namespace detail
+
+/// The switch as one node sees it: the gates of the variable links it sends, the counts of
+/// those it receives, and the slot of its agent when that agent is variable.
+template <std::size_t Links>
+class SwitchMember final : public SwitchControl {
+ public:
+  /// ``agent``: the index of the node's agent among the variable agents, -1 for an agent of
+  /// every configuration; ``control``: the node is that agent's control subsystem.
+  SwitchMember(const SwitchTables& tables, std::uint16_t node, int agent, bool control, const char* agentName,
+               Reactivation reactivation) noexcept
+      : tables_(tables), node_(node), agent_(agent), control_(control), slot_(agentName, reactivation) {
+    slot_.switch_ = this;
+  }
+  SwitchMember(const SwitchMember&) = delete;
+  SwitchMember& operator=(const SwitchMember&) = delete;
+
+  /// The slot the node's subsystem joins (joinAgent(*slot(), control)), nullptr when its
+  /// agent is in every configuration.
+  AgentSlot* slot() noexcept { return agent_ >= 0 ? &slot_ : nullptr; }
+  bool control() const noexcept { return control_; }
+  std::uint16_t node() const noexcept { return node_; }
+
+  /// At initialisation: the node sends the variable link ``link``.
+  void sends(std::size_t link) noexcept {
+    if (link < Links) sends_[link] = true;
+  }
+  /// At initialisation: the node receives the variable link ``link`` into ``channel``.
+  template <class Ch>
+  void receives(std::size_t link, VariableLink<Ch>& channel) noexcept {
+    if (link >= Links) return;
+    receivers_[link] = Receiver{&channel.gate(), &channel,
+                                [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->fresh(); },
+                                [](void* c) noexcept { return static_cast<VariableLink<Ch>*>(c)->discard(); }};
+  }
+
+  /// At initialisation: the links and the agent as ``configuration`` has them.
+  void start(std::size_t configuration) noexcept {
+    current_ = configuration;
+    for (std::size_t l = 0; l < Links; ++l) {
+      const bool present = detail::hasLink(tables_, configuration, l);
+      open_[l] = present;
+      if (receivers_[l].gate != nullptr) present ? receivers_[l].gate->open() : receivers_[l].gate->close();
+    }
+    if (agent_ >= 0) {
+      slot_.set(detail::hasAgent(tables_, configuration, static_cast<std::size_t>(agent_)) ? AgentSlot::Phase::active
+                                                                                          : AgentSlot::Phase::stopped);
+    }
+  }
+
+  /// Whether a value sent now goes out on the variable link ``link`` (sent() counts it).
+  bool open(std::size_t link) const noexcept { return link < Links && open_[link]; }
+  void sent(std::size_t link) noexcept {
+    if (link < Links) ++sent_[link];
+  }
+
+  /// A value of the variable link ``link`` arrived: writes it to ``channel`` (past its gate,
+  /// which orders reading), or drops it when a forced switch already reported it undelivered.
+  template <class Ch>
+  bool deliver(std::size_t link, VariableLink<Ch>& channel, const typename VariableLink<Ch>::value_type& value) noexcept {
+    if (link >= Links) return false;
+    if (++arrived_[link] <= dropUpTo_[link]) return false;
+    channel.Ch::write(value);
+    return true;
+  }
+
+  /// A command of the coordinator; handled at the next boundary().
+  void command(const SwitchCommand<Links>& command) noexcept {
+    if (command.seq < command_.seq || (command.seq == command_.seq && command.round <= command_.round)) return;
+    command_ = command;
+  }
+
+  /// Between two iterations: carries out the pending command; true when ``ack`` is filled and
+  /// is to be sent.
+  bool boundary(SwitchAck<Links>& ack) noexcept {
+    const SwitchCommand<Links>& c = command_;
+    if (c.round == SwitchRound::none || (c.seq == ackedSeq_ && c.round == ackedRound_)) return false;
+    if (c.seq != seq_) begin(c);
+    if (c.round >= SwitchRound::drain) expected_ = c.counts;
+    bool done = true;
+    switch (c.round) {
+      case SwitchRound::drain:
+        done = arrivedAll(leaves());
+        break;
+      case SwitchRound::stop:
+        done = stopped(c.forced);
+        break;
+      case SwitchRound::park:
+        park(c.forced);
+        break;
+      case SwitchRound::activate:
+        activate();
+        break;
+      case SwitchRound::open:
+        openLinks();
+        break;
+      default:
+        break;
+    }
+    if (!done) return false;
+    ackedSeq_ = c.seq;
+    ackedRound_ = c.round;
+    ack.seq = c.seq;
+    ack.round = c.round;
+    ack.node = node_;
+    ack.counts.fill(0);
+    if (c.round == SwitchRound::close) {
+      for (std::size_t l = 0; l < Links; ++l) {
+        if (sends_[l]) ack.counts[l] = sent_[l];
+      }
+    } else if (c.round == SwitchRound::park) {
+      ack.counts = undelivered_;
+    }
+    return true;
+  }
+
+  /// The leaving agent may stop: the coordinator has seen every closed link into it drained
+  /// (its stop round), and this node's own closed links are read.
+  bool drained(const AgentSlot& agent) const noexcept override {
+    (void)agent;
+    return command_.seq == seq_ && command_.round >= SwitchRound::stop && arrivedAll(true);
+  }
+  bool begin(std::size_t) noexcept override { return false; }
+  bool poll() noexcept override { return true; }
+
+  std::uint64_t sentOn(std::size_t link) const noexcept { return link < Links ? sent_[link] : 0; }
+  std::uint64_t arrivedOn(std::size_t link) const noexcept { return link < Links ? arrived_[link] : 0; }
+
+ private:
+  struct Receiver {
+    Gate* gate = nullptr;
+    void* channel = nullptr;
+    bool (*fresh)(const void*) noexcept = nullptr;
+    std::uint64_t (*discard)(void*) noexcept = nullptr;
+  };
+
+  bool closes(std::size_t l) const noexcept {
+    return detail::hasLink(tables_, from_, l) && !detail::hasLink(tables_, to_, l);
+  }
+  bool opens(std::size_t l) const noexcept { return !detail::hasLink(tables_, from_, l) && detail::hasLink(tables_, to_, l); }
+  bool leaves() const noexcept {
+    if (agent_ < 0) return false;
+    const auto a = static_cast<std::size_t>(agent_);
+    return detail::hasAgent(tables_, from_, a) && !detail::hasAgent(tables_, to_, a);
+  }
+  bool joins() const noexcept {
+    if (agent_ < 0) return false;
+    const auto a = static_cast<std::size_t>(agent_);
+    return !detail::hasAgent(tables_, from_, a) && detail::hasAgent(tables_, to_, a);
+  }
+
+  /// The close, which every later round of a switch implies.
+  void begin(const SwitchCommand<Links>& c) noexcept {
+    seq_ = c.seq;
+    from_ = c.from;
+    to_ = c.to;
+    undelivered_.fill(0);
+    for (std::size_t l = 0; l < Links; ++l) {
+      if (!closes(l)) continue;
+      open_[l] = false;
+      if (receivers_[l].gate != nullptr) receivers_[l].gate->close();
+    }
+    if (leaves()) slot_.set(AgentSlot::Phase::leaving);
+  }
+
+  /// Every closed link into this node has brought what was sent on it, and (``read``) the
+  /// subsystem has read it.
+  bool arrivedAll(bool read) const noexcept {
+    for (std::size_t l = 0; l < Links; ++l) {
+      const Receiver& r = receivers_[l];
+      if (r.channel == nullptr || !closes(l)) continue;
+      if (arrived_[l] < expected_[l]) return false;
+      if (read && r.fresh(r.channel)) return false;
+    }
+    return true;
+  }
+
+  bool stopped(bool forced) noexcept {
+    if (!leaves() || !control_) return true;
+    if (forced) slot_.set(AgentSlot::Phase::stopped);
+    return slot_.phase() == AgentSlot::Phase::stopped;
+  }
+
+  void park(bool forced) noexcept {
+    if (!leaves()) return;
+    slot_.set(AgentSlot::Phase::stopped);
+    if (!forced) return;
+    for (std::size_t l = 0; l < Links; ++l) {
+      const Receiver& r = receivers_[l];
+      if (r.channel == nullptr || !closes(l)) continue;
+      const std::uint64_t late = expected_[l] > arrived_[l] ? expected_[l] - arrived_[l] : 0;
+      undelivered_[l] = r.discard(r.channel) + late;
+      if (expected_[l] > dropUpTo_[l]) dropUpTo_[l] = expected_[l];
+    }
+  }
+
+  void activate() noexcept {
+    if (joins()) slot_.activate();
+  }
+
+  void openLinks() noexcept {
+    for (std::size_t l = 0; l < Links; ++l) {
+      if (!opens(l)) continue;
+      open_[l] = true;
+      if (receivers_[l].gate != nullptr) receivers_[l].gate->open();
+    }
+    current_ = to_;
+  }
+
+  const SwitchTables& tables_;
+  std::uint16_t node_;
+  int agent_;
+  bool control_;
+  AgentSlot slot_;
+  std::size_t current_ = 0;
+  std::size_t from_ = 0;
+  std::size_t to_ = 0;
+  std::uint32_t seq_ = 0;
+  std::uint32_t ackedSeq_ = 0;
+  SwitchRound ackedRound_ = SwitchRound::none;
+  SwitchCommand<Links> command_{};
+  std::array<bool, Links> sends_{};
+  std::array<bool, Links> open_{};
+  std::array<std::uint64_t, Links> sent_{};
+  std::array<Receiver, Links> receivers_{};
+  std::array<std::uint64_t, Links> arrived_{};
+  std::array<std::uint64_t, Links> expected_{};
+  std::array<std::uint64_t, Links> dropUpTo_{};
+  std::array<std::uint64_t, Links> undelivered_{};
+};
+
+/// The switch as the coordinator's node drives it: SwitchedSubsystem::coordinate() takes it
+/// in place of a Switch. ``Nodes``: every subsystem instance of the system, each a
+/// SwitchMember numbered 0 … Nodes-1 (the coordinator's own node included).
+template <std::size_t Links, std::size_t Nodes>
+class SwitchCoordinator final : public SwitchControl {
+ public:
+  using Clock = std::chrono::steady_clock;
+  using Send = void (*)(void* context, const SwitchCommand<Links>& command) noexcept;
+
+  SwitchCoordinator(const SwitchTables& tables, const char* const* linkNames) noexcept
+      : tables_(tables), linkNames_(linkNames) {}
+  SwitchCoordinator(const SwitchCoordinator&) = delete;
+  SwitchCoordinator& operator=(const SwitchCoordinator&) = delete;
+
+  /// At initialisation: how a command reaches every node (this one's included).
+  void setTransport(Send send, void* context) noexcept {
+    send_ = send;
+    context_ = context;
+  }
+  void setObserver(SwitchObserver* observer) noexcept { observer_ = observer; }
+  void setCoordinator(const Component* coordinator) noexcept override { coordinator_ = coordinator; }
+  void start(std::size_t configuration) noexcept { current_ = configuration; }
+
+  std::size_t current() const noexcept { return current_; }
+  bool switching() const noexcept { return target_ != kNone; }
+  std::uint64_t switches() const noexcept { return switches_; }
+  std::uint64_t timeouts() const noexcept { return timeouts_; }
+  std::uint64_t undelivered() const noexcept { return undelivered_; }
+  const SwitchLatency& lastLatency() const noexcept { return last_; }
+
+  /// An acknowledgement of a node; one of an earlier round is ignored.
+  void ack(const SwitchAck<Links>& ack) noexcept {
+    if (!switching() || ack.seq != command_.seq || ack.round != command_.round || ack.node >= Nodes) return;
+    if (acked_[ack.node]) return;
+    acked_[ack.node] = true;
+    ++acks_;
+    if (ack.round == SwitchRound::close) {
+      for (std::size_t l = 0; l < Links; ++l) command_.counts[l] += ack.counts[l];
+    } else if (ack.round == SwitchRound::park) {
+      for (std::size_t l = 0; l < Links; ++l) undeliveredNow_[l] += ack.counts[l];
+    }
+  }
+
+  bool begin(std::size_t configuration) noexcept override {
+    if (configuration == current_ || configuration >= tables_.configurations) return false;
+    target_ = configuration;
+    started_ = Clock::now();
+    polls_ = 0;
+    command_ = SwitchCommand<Links>{};
+    command_.seq = ++seq_;
+    command_.from = static_cast<std::uint16_t>(current_);
+    command_.to = static_cast<std::uint16_t>(target_);
+    undeliveredNow_.fill(0);
+    send(SwitchRound::close);
+    return true;
+  }
+
+  bool poll() noexcept override {
+    if (!switching()) return true;
+    ++polls_;
+    const SwitchRound round = command_.round;
+    if (acks_ < Nodes) {
+      // the drain and the quiescence of the leaving agents are what the timeout bounds
+      if ((round == SwitchRound::drain || round == SwitchRound::stop) && !command_.forced && timedOut()) force();
+      return false;
+    }
+    switch (round) {
+      case SwitchRound::close:
+#if EARL_SWITCH_DRAIN
+        if (timedOut()) {
+          force();
+        } else {
+          send(SwitchRound::drain);
+        }
+#else
+        force();
+#endif
+        return false;
+      case SwitchRound::drain:
+        send(SwitchRound::stop);
+        return false;
+      case SwitchRound::stop:
+        send(SwitchRound::park);
+        return false;
+      case SwitchRound::park:
+        report();
+        send(SwitchRound::activate);
+        return false;
+      case SwitchRound::activate:
+        send(SwitchRound::open);
+        return false;
+      default:
+        finish();
+        return true;
+    }
+  }
+
+  /// The coordinator's node is a member too, but drains nothing here: its agent is never
+  /// variable (rule X003).
+  bool drained(const AgentSlot& agent) const noexcept override {
+    (void)agent;
+    return true;
+  }
+
+ private:
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+
+  void send(SwitchRound round) noexcept {
+    command_.round = round;
+    acked_.fill(false);
+    acks_ = 0;
+    if (send_ != nullptr) send_(context_, command_);
+  }
+
+  void force() noexcept {
+    ++timeouts_;
+    command_.forced = true;
+    send(SwitchRound::stop);
+  }
+
+  std::chrono::nanoseconds period() const noexcept {
+    return coordinator_ != nullptr ? coordinator_->period() : std::chrono::nanoseconds(std::chrono::milliseconds(1));
+  }
+
+  /// The next poll would come after the timeout.
+  bool timedOut() const noexcept {
+    const std::int64_t timeout = tables_.timeoutNs[target_];
+    if (timeout < 0) return false;
+    const std::int64_t p = period().count() > 0 ? period().count() : 1;
+    const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
+    return elapsed + p >= timeout;
+  }
+
+  void report() noexcept {
+    for (std::size_t l = 0; l < Links; ++l) {
+      if (undeliveredNow_[l] == 0) continue;
+      undelivered_ += undeliveredNow_[l];
+      if (observer_ != nullptr) observer_->undelivered(linkNames_ != nullptr ? linkNames_[l] : "?", undeliveredNow_[l]);
+    }
+  }
+
+  void finish() noexcept {
+    last_ = SwitchLatency{polls_, std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count(), true};
+    const std::size_t from = current_;
+    current_ = target_;
+    target_ = kNone;
+    ++switches_;
+    if (observer_ != nullptr) observer_->switched(tables_.names[from], tables_.names[current_], last_);
+  }
+
+  const SwitchTables& tables_;
+  const char* const* linkNames_;
+  Send send_ = nullptr;
+  void* context_ = nullptr;
+  const Component* coordinator_ = nullptr;
+  SwitchObserver* observer_ = nullptr;
+  SwitchCommand<Links> command_{};
+  std::array<bool, Nodes> acked_{};
+  std::size_t acks_ = 0;
+  std::array<std::uint64_t, Links> undeliveredNow_{};
+  std::size_t current_ = 0;
+  std::size_t target_ = kNone;
+  std::uint32_t seq_ = 0;
+  std::uint64_t polls_ = 0;
+  Clock::time_point started_{};
+  std::uint64_t switches_ = 0;
+  std::uint64_t timeouts_ = 0;
+  std::uint64_t undelivered_ = 0;
+  SwitchLatency last_{0, 0, true};
+};
+
+}  // namespace earl
