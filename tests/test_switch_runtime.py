@@ -1,6 +1,12 @@
-"""Variable structure in the C++ runtime (``earl/switch.hpp``), on the hand-written system of
-``tests/cpp/test_switch.cpp``: task/a hands numbered commands over between manipA/a and
-manipB/a, 20 switches per run.
+"""Variable structure in the C++ runtime, on a hand-written system: task/a hands numbered
+commands over between manipA/a and manipB/a, 20 switches per run. Each test runs twice:
+
+* ``tests/cpp/test_switch.cpp``: the switch of one process (``earl/switch.hpp``);
+* ``tests/cpp/test_switch_protocol.cpp``: the switch in rounds between nodes that share no
+  memory (``earl/switch_protocol.hpp``, what the ROS and Orocos targets carry), each subsystem
+  a node whose values, commands and acknowledgements go through in-order pipes.
+
+The checks:
 
 * deterministic: two runs give byte-identical traces; every command is received exactly once,
   in order, by the manipulator of the configuration it was sent in; nothing is undelivered;
@@ -24,7 +30,8 @@ from tests.support.load import cpu_hogs
 
 ROOT = Path(__file__).resolve().parents[1]
 RUNTIME = ROOT / "transforms" / "cpp" / "runtime"
-SOURCE = ROOT / "tests" / "cpp" / "test_switch.cpp"
+SOURCES = {"one-process": ROOT / "tests" / "cpp" / "test_switch.cpp",
+           "rounds": ROOT / "tests" / "cpp" / "test_switch_protocol.cpp"}
 CXXFLAGS = ["-std=c++17", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic", "-pthread"]
 SWITCHES = 20
 PER = 50  # commands per configuration
@@ -35,22 +42,27 @@ SWITCH_LINE = re.compile(r"^switch (useA -> useB|useB -> useA) in (\d+) cycles$"
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None, reason="g++ is needed")
 
 
-def build(folder: Path, *defines: str) -> Path:
-    binary = folder / "test_switch"
-    command = ["g++", *CXXFLAGS, *defines, "-I", str(RUNTIME), str(SOURCE), "-o", str(binary)]
+def build(source: Path, folder: Path, *defines: str) -> Path:
+    binary = folder / source.stem
+    command = ["g++", *CXXFLAGS, *defines, "-I", str(RUNTIME), str(source), "-o", str(binary)]
     result = subprocess.run(command, capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, f"build failed:\n{result.stderr}"
     return binary
 
 
-@pytest.fixture(scope="module")
-def drained(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return build(tmp_path_factory.mktemp("switch"))
+@pytest.fixture(scope="module", params=sorted(SOURCES))
+def source(request: pytest.FixtureRequest) -> Path:
+    return SOURCES[request.param]
 
 
 @pytest.fixture(scope="module")
-def undrained(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return build(tmp_path_factory.mktemp("switch_undrained"), "-DEARL_SWITCH_DRAIN=0")
+def drained(source: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return build(source, tmp_path_factory.mktemp("switch"))
+
+
+@pytest.fixture(scope="module")
+def undrained(source: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return build(source, tmp_path_factory.mktemp("switch_undrained"), "-DEARL_SWITCH_DRAIN=0")
 
 
 def run(binary: Path, *args: str) -> list[str]:
@@ -70,7 +82,8 @@ def violations(s: dict[str, int | str], timeout_ms: float = TIMEOUT_MS) -> list[
     """What a correct switch must never show: empty when every command was received exactly
     once, in order, by the manipulator of its configuration, and every switch kept its bound."""
     found = [f"{key} {s[key]}" for key in ("lost", "duplicates", "misrouted", "out_of_order", "overlaps",
-                                            "undelivered", "overflows", "timeouts", "allocations") if s[key] != 0]
+                                            "undelivered", "overflows", "timeouts", "allocations", "dropped")
+             if s.get(key, 0) != 0]
     if s["sent"] != (SWITCHES + 1) * PER or s["received"] != s["sent"]:
         found.append(f"sent {s['sent']} received {s['received']}")
     if s["switches"] != SWITCHES:

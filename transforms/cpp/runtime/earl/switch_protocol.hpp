@@ -317,6 +317,9 @@ class SwitchCoordinator final : public SwitchControl {
   }
   void setObserver(SwitchObserver* observer) noexcept { observer_ = observer; }
   void setCoordinator(const Component* coordinator) noexcept override { coordinator_ = coordinator; }
+  /// A deterministic (stepped) run: the timeout is counted in polls of the coordinator, one
+  /// per period, and latencies are reported in them. Otherwise on the steady clock.
+  void countCycles(bool cycles) noexcept { cycles_ = cycles; }
   void start(std::size_t configuration) noexcept { current_ = configuration; }
 
   std::size_t current() const noexcept { return current_; }
@@ -420,13 +423,18 @@ class SwitchCoordinator final : public SwitchControl {
     return coordinator_ != nullptr ? coordinator_->period() : std::chrono::nanoseconds(std::chrono::milliseconds(1));
   }
 
-  /// The next poll would come after the timeout.
+  /// A forced switch still takes its stop, park, activate and open rounds, a poll each at the
+  /// least: it is forced that many polls before the timeout, so that it ends by the timeout
+  /// when every node answers within a period of the coordinator.
+  static constexpr std::int64_t kRoundsAfterForce = 4;
+
   bool timedOut() const noexcept {
     const std::int64_t timeout = tables_.timeoutNs[target_];
     if (timeout < 0) return false;
     const std::int64_t p = period().count() > 0 ? period().count() : 1;
+    if (cycles_) return static_cast<std::int64_t>(polls_) + kRoundsAfterForce >= (timeout + p - 1) / p;
     const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
-    return elapsed + p >= timeout;
+    return elapsed + (kRoundsAfterForce + 1) * p >= timeout;
   }
 
   void report() noexcept {
@@ -438,7 +446,8 @@ class SwitchCoordinator final : public SwitchControl {
   }
 
   void finish() noexcept {
-    last_ = SwitchLatency{polls_, std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count(), true};
+    last_ = SwitchLatency{polls_, 0, !cycles_};
+    if (!cycles_) last_.nanoseconds = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
     const std::size_t from = current_;
     current_ = target_;
     target_ = kNone;
@@ -452,6 +461,7 @@ class SwitchCoordinator final : public SwitchControl {
   void* context_ = nullptr;
   const Component* coordinator_ = nullptr;
   SwitchObserver* observer_ = nullptr;
+  bool cycles_ = false;
   SwitchCommand<Links> command_{};
   std::array<bool, Nodes> acked_{};
   std::size_t acks_ = 0;
