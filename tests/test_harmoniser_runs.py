@@ -1,13 +1,16 @@
 """The harmoniser sample runs as C++: ``samples/harmoniser`` generated with its shipped user code
-(``samples/harmoniser/user/``), built with CMake (warnings are errors) and run deterministically
-by the system executor. The scripted lidar sees the person fall once and get up again: tha/a
-switches guiding → fallResponse → guiding. guide/a, whose reactivation is ``resume``, sees
-``leaving()``, parks and stops in ``waiting``; brought back, it goes on from that state with its
-memory: the waypoints it leads to carry on from the last one before the fall, its commands'
-numbers too, and its FSM leaves ``waiting`` again at the next step of its own count.
+(``samples/harmoniser/user/``), built with CMake (warnings are errors) and run by the system
+executor, deterministically (twice, byte-identical) and threaded (50 runs with one busy process
+per CPU, each passing ``tests/support/harmoniser_checks.py``). The scripted lidar sees the
+person fall once and get up again: tha/a switches guiding → fallResponse → guiding. guide/a,
+whose reactivation is ``resume``, sees ``leaving()``, parks and stops in ``waiting``; brought
+back, it goes on from that state with its memory: the waypoints it leads to carry on from the
+last one before the fall, its commands' numbers too, and its FSM leaves ``waiting`` again at
+the next step of its own count.
 fallHelp/a, brought in for the first time, starts from its initial state.
 
-Sensitivity control: the same sample with guide/a restarted instead (its ``reactivation`` tag
+Sensitivity controls: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails the checks
+in a loaded run; the same sample with guide/a restarted instead (its ``reactivation`` tag
 taken out of the SysML v2 file) leads from the first waypoint again after the fall, which the
 checks of the resumed agent reject.
 """
@@ -20,7 +23,9 @@ from pathlib import Path
 
 import pytest
 
+from tests.support import harmoniser_checks
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
+from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
@@ -30,6 +35,8 @@ USER = SAMPLE.parent / "user"
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
 CYCLES = 140
+LOADED_RUNS = 50
+THREADED_SECONDS = 0.5  # the fall is at the lidar's 40th scan, the person up at its 70th: 1 ms each
 
 LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+)$")
 PARK = re.compile(r"^guide/a\.cs: park after command (\d+)$")
@@ -41,10 +48,10 @@ pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cma
                                 reason="g++ and cmake are needed")
 
 
-def build(model: Path, folder: Path) -> Path:
+def build(model: Path, folder: Path, *flags: str) -> Path:
     """The sample's user code copied into ``folder/out``, gen run over it for ``model``, built."""
     out = generate_with_user_code(model, USER, folder / "out")
-    return cmake_build(out, folder / "build", "Harmoniser_system")
+    return cmake_build(out, folder / "build", "Harmoniser_system", *flags)
 
 
 @pytest.fixture(scope="module")
@@ -109,6 +116,42 @@ def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path) -> None:
     assert next(m for m in map(LEAD.match, lines[back:]) if m).group(1) == "1"
     with pytest.raises(AssertionError):
         assert_resumed(lines)
+    assert harmoniser_checks.resumed_problems(lines)
+
+
+def test_the_stepped_run_passes_the_checks_of_every_runtime(trace: list[str]) -> None:
+    assert harmoniser_checks.problems(trace) == []
+
+
+def threaded_run(binary: Path) -> list[str]:
+    lines, _ = run_until([binary, "--threaded", str(THREADED_SECONDS)],
+                         lambda out: bool(out) and out[-1].startswith("ran HarmoniserSystem"), 30, graceful=False)
+    return lines
+
+
+def test_threaded_runs_under_load_resume_the_guide_agent(binary: Path) -> None:
+    failures, latencies = [], []
+    with cpu_hogs():
+        for attempt in range(LOADED_RUNS):
+            lines = threaded_run(binary)
+            latencies += harmoniser_checks.latencies_ms(lines)
+            found = harmoniser_checks.problems(lines)
+            if found:
+                failures.append(f"run {attempt + 1}: {found[:4]}")
+    assert not failures, f"{len(failures)} of {LOADED_RUNS} runs failed:\n" + "\n".join(failures)
+    latencies.sort()
+    print(f"harmoniser C++ threaded: {LOADED_RUNS} runs, {len(latencies)} switches, median "
+          f"{latencies[len(latencies) // 2]:.3f} ms, worst {latencies[-1]:.3f} ms")
+
+
+def test_the_checks_catch_a_switch_that_skips_the_drain(tmp_path: Path) -> None:
+    """Built with the drain skipped (test-only), guide/a stops at once, wherever it is: it is
+    not resumed in waiting, which the checks see in at least one loaded run."""
+    undrained = build(SAMPLE, tmp_path, "-DEARL_SWITCH_DRAIN=0")
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(LOADED_RUNS)
+                       if harmoniser_checks.problems(threaded_run(undrained))), None)
+    assert caught is not None, f"all {LOADED_RUNS} runs of the drain-skipping build passed the checks"
 
 
 def test_the_fall_help_agent_starts_from_its_initial_state(trace: list[str]) -> None:
