@@ -116,13 +116,18 @@ def test_the_deterministic_run_is_repeatable_and_hands_every_command_over(draine
 
 
 def test_threaded_runs_under_load_hand_every_command_over(drained: Path) -> None:
-    failures = []
+    failures, latencies = [], []
     with cpu_hogs():
         for attempt in range(LOADED_RUNS):
-            found = problems(threaded_run(drained))
+            lines = threaded_run(drained)
+            latencies += [float(m.group(3)) for m in map(SWITCH.match, lines) if m]
+            found = problems(lines)
             if found:
                 failures.append(f"run {attempt + 1}: {found}")
     assert not failures, f"{len(failures)} of {LOADED_RUNS} runs failed:\n" + "\n".join(failures)
+    latencies.sort()
+    print(f"two_arm C++ threaded: {LOADED_RUNS} runs, {len(latencies)} switches, median "
+          f"{latencies[len(latencies) // 2]:.3f} ms, worst {latencies[-1]:.3f} ms")
 
 
 def test_the_checks_catch_a_switch_that_skips_the_drain(undrained: Path) -> None:
