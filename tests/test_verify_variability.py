@@ -86,7 +86,11 @@ def test_the_fixture_proves_the_switch_checks_and_its_exclusivity(capsys: pytest
 
 def test_a_manipulator_stuck_with_commands_queued_loses_them(tmp_path: Path,
                                                              capsys: pytest.CaptureFixture[str]) -> None:
-    code = main(["verify", str(_variant(tmp_path, STUCK))])
+    stuck = _variant(tmp_path, STUCK)
+    assert main(["verify", str(stuck)]) == 2  # the rules see it: nothing verified without --force
+    refused = capsys.readouterr()
+    assert refused.out == "" and "nothing verified (--force to verify anyway)" in refused.err
+    code = main(["verify", str(stuck), "--force"])
     out = capsys.readouterr().out
 
     assert code == 1
@@ -104,7 +108,7 @@ def test_a_manipulator_stuck_with_commands_queued_loses_them(tmp_path: Path,
 
 def test_a_leaving_manipulator_that_cannot_reach_a_quiescent_state_stops_by_the_timeout(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code = main(["verify", str(_variant(tmp_path, QUIET_MOVING)), "--format", "json"])
+    code = main(["verify", str(_variant(tmp_path, QUIET_MOVING)), "--format", "json", "--force"])
     result = json.loads(capsys.readouterr().out)
 
     assert code == 1
@@ -172,7 +176,7 @@ def test_an_input_of_two_variable_links_counts_per_link(tmp_path: Path, capsys: 
     assert "if :: q2 > 0 -> q2-- :: q3 > 0 -> q3-- :: else -> skip fi" in text
     assert "st0 = (active0 -> st0 : 0); q0 = (active0 -> q0 : 0); active0 = true" in text  # restarts
 
-    code = main(["verify", str(path), "--format", "json"])
+    code = main(["verify", str(path), "--format", "json", "--force"])  # the rules see the wait too
     result = json.loads(capsys.readouterr().out)
     # withB waits for a status that manipB/a, waiting for a command, never sends
     assert code == 1 and {f["code"] for f in result["findings"]} == {"V002"}

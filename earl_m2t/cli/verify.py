@@ -1,7 +1,12 @@
 """``earl-m2t verify MODEL``: system-level model checking with SPIN (docs/verify.md).
 
+The model is checked first (with the configuration ``check`` uses): a model with error findings
+is not translated unless ``--force`` (to see, say, the counterexample behind a rule's error);
+they are printed and verify exits 2.
+
 Exit codes: 0 every property holds, 1 a property fails (with a counterexample), 2 bad usage, an
-unreadable model or SPIN missing, 3 not proven (a depth or time bound stopped the search).
+unreadable model, a model with error findings or SPIN missing, 3 not proven (a depth or time
+bound stopped the search).
 """
 
 from __future__ import annotations
@@ -9,6 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from earl_m2t.cli.config_option import add_config_options
 from earl_m2t.cli.dialect_option import add_dialect_option
 from earl_m2t.cli.early_parse import parses_model_early
 from earl_m2t.cli.profile_files_option import add_profile_files_option
@@ -36,15 +42,18 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                              "(repeatable; the model's own properties are checked too)")
     add_dialect_option(parser)
     add_profile_files_option(parser)
+    add_config_options(parser)
+    parser.add_argument("--force", action="store_true", help="verify even when the model has error findings")
     parser.set_defaults(run=run)
 
 
 @parses_model_early
 def run(args: argparse.Namespace) -> int:
-    from earl_m2t.api import load
-    from earl_m2t.diagnostics import ModelReadError
+    from earl_m2t.cli.checked_model import read_and_check
+    from earl_m2t.diagnostics import Severity
     from earl_m2t.model.directives import LtlProperty
     from earl_m2t.model.location import Location
+    from earl_m2t.render.diagnostics import text_line
     from earl_m2t.verify.ltl import LtlError, tokens
     from earl_m2t.verify.render import RENDERERS
     from earl_m2t.verify.run import VerifyOptions, verify_model
@@ -53,12 +62,21 @@ def run(args: argparse.Namespace) -> int:
     if args.depth < 1 or args.timeout <= 0:
         print("earl-m2t: verify: --depth and --timeout must be positive", file=sys.stderr)
         return 2
-    try:
-        loaded = load(args.model, args.dialect, args.profiles)
-    except ModelReadError as exc:
-        print(exc.one_line(), file=sys.stderr)
+    checked = read_and_check(args, "verify")
+    if isinstance(checked, int):
+        return checked
+    errors = [d for d in checked.findings if d.severity == Severity.ERROR]
+    if errors and not args.force:
+        for diagnostic in errors:
+            print(text_line(diagnostic), file=sys.stderr)
+        print(f"earl-m2t: verify: {len(errors)} error(s) in {args.model}; nothing verified (--force to verify "
+              "anyway)", file=sys.stderr)
         return 2
+    loaded = checked.loaded
     model = loaded.model
+    if model.system is None:
+        print(f"earl-m2t: verify: {args.model} holds no EARL system to verify", file=sys.stderr)
+        return 2
     given = tuple(LtlProperty(f"ltl{i}", text, Location("--ltl", i + 1, 1)) for i, text in enumerate(args.ltl))
     written = tuple(LtlProperty(f"ltl{len(given) + i}", p.text, p.location, p.label)
                     for i, p in enumerate(loaded.properties))

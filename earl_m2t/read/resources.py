@@ -121,6 +121,9 @@ class ResourceSet:
         if named.kind == "closed":
             self._problem(("resource", resource), href, model, el, f"{resource} is {named.reason}")
             return
+        if "\0" in named.path:  # no file can be named so (a %00 in the href)
+            self._problem(("resource", resource), href, model, el, f"{resource!r} names no file: a null byte")
+            return
         shown = os.path.normpath(os.path.join(self._dirs[id(model)], named.path))
         real = _real(Path(shown))
         self._targets[(id(model), resource)] = real
@@ -212,5 +215,5 @@ def _real(path: Path) -> str:
     """The one key of a file, whichever relative path or link names it."""
     try:
         return str(path.resolve())
-    except (OSError, RuntimeError):
+    except (OSError, RuntimeError, ValueError):
         return os.path.abspath(path)

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from earl_m2t.model.elements import Buffer, Link
+from earl_m2t.verify.promela_text import promela_comment
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,8 +43,9 @@ class TrackedBuffer:
 
     def declarations(self) -> list[str]:
         if not self.links:
-            return [f"byte {self.variable} = 0; /* {self.buffer.path}, up to {self.capacity} */"]
-        return [f"byte {c.variable} = 0; /* {self.buffer.path} by {c.link.path}, up to {self.capacity} */"
+            return [f"byte {self.variable} = 0; /* {promela_comment(self.buffer.path)}, up to {self.capacity} */"]
+        return [f"byte {c.variable} = 0; /* {promela_comment(self.buffer.path)} by {promela_comment(c.link.path)}, "
+                f"up to {self.capacity} */"
                 for c in self.links]
 
     def receive(self) -> str:

@@ -24,6 +24,7 @@ from earl_m2t.verify.counters import CountedLink, TrackedBuffer
 from earl_m2t.verify.ltl import AgentAtom, ConfigAtom, PredicateAtom, StateAtom, SwitchingAtom, Token
 from earl_m2t.verify.ltl import tokens as ltl_tokens
 from earl_m2t.verify.outcomes import Outcome, StateOutcomes, state_outcomes
+from earl_m2t.verify.promela_text import promela_comment
 from earl_m2t.verify.switch_process import ProcessState, SwitchView, switch_process
 from earl_m2t.verify.switching import SWITCH_MARK, Reconfiguration, claims, declarations, reconfiguration
 
@@ -107,17 +108,18 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
                     token.subsystem, token.predicate, f"pp{len(watched)}")
     tracked = _tracked(model, spec, rc)
     senders = _senders(model)
-    lines: list[str] = [f"/* {model.name}: earl-m2t verify, see docs/verify.md */"]
+    lines: list[str] = [f"/* {promela_comment(model.name)}: earl-m2t verify, see docs/verify.md */"]
     for t in spec.tracked:
         lines.extend(t.declarations())
     for seen in watched.values():
-        lines.append(f"bool {seen.variable} = false; /* {seen.subsystem} {seen.predicate} in its latest iteration */")
+        lines.append(f"bool {seen.variable} = false; /* {promela_comment(seen.subsystem)} "
+                     f"{promela_comment(seen.predicate)} in its latest iteration */")
     if rc is not None:
         lines.extend(declarations(rc))
     bodies: list[list[str | tuple[str, Step]]] = []
     for sub in model.subsystems:
         fsm = sub.fsm
-        if fsm is None or fsm.initial is None:
+        if fsm is None or fsm.initial is None or fsm.state(fsm.initial) is None:
             spec.skipped.append((sub, "no FSM with one initial state"))
             continue
         observed = tuple(w for w in watched.values() if w.subsystem == sub.path)
@@ -135,7 +137,8 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
         # written and read by its own process only: `local` lets SPIN's partial order reduction
         # use that; a never claim, the watchdog or a switch reads the states, so not with those
         prefix = "" if properties or spec.waits or rc is not None else "local "
-        lines.append(f"{prefix}byte {info.variable} = {initial}; /* {sub.path}: {names} */")
+        lines.append(f"{prefix}byte {info.variable} = {initial}; "
+                     f"/* {promela_comment(sub.path)}: {promela_comment(names)} */")
     _write_processes(spec, bodies, lines)
     if rc is not None:
         for item in switch_process(rc, _switch_view(model, spec)):
@@ -196,7 +199,7 @@ def _outcomes(model: EarlModel, sub: Subsystem, observed: tuple[ObservedPredicat
 
 def _write_processes(spec: Specification, bodies: list[list[str | tuple[str, Step]]], lines: list[str]) -> None:
     for info, body in zip(spec.processes, bodies):
-        lines.append(f"active proctype subsystem{info.variable[2:]}() {{ /* {info.subsystem.path} */")
+        lines.append(f"active proctype subsystem{info.variable[2:]}() {{ /* {promela_comment(info.subsystem.path)} */")
         lines.append("end:")
         lines.append("  do")
         for item in body:
@@ -296,11 +299,12 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
             if rc is not None and switch is not None:  # entered in the configuration it names, else a switch begins
                 begin = "; ".join([*actions, *records, rc.begin(switch, target)])
                 body.append(f"  :: atomic {{ {guard} && cfg != {switch} -> {begin}; "
-                            f"/* {state.name}: {label}, a switch begins */")
+                            f"/* {promela_comment(state.name)}: {promela_comment(label)}, a switch begins */")
                 # not a Step: the state is entered when the switch opens (Specification.entries)
                 body.append(f'       {mark}; printf("{SWITCH_MARK} begin {info.states[target].configuration}\\n") }}')
                 guard += f" && cfg == {switch}"
-            body.append(f"  :: atomic {{ {guard} -> {effect}; /* {state.name}: {label} */")
+            body.append(f"  :: atomic {{ {guard} -> {effect}; "
+                        f"/* {promela_comment(state.name)}: {promela_comment(label)} */")
             body.append((f"       {mark} }}", Step(sub, state, outcome, 0)))
     return body
 

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 from earl_m2t.model.elements import State, Subsystem
 from earl_m2t.model.kinds import SubsystemKind
+from earl_m2t.verify.promela_text import promela_comment
 from earl_m2t.verify.switching import SWITCH_MARK, Reconfiguration, VariableAgent
 
 HEADER = (
@@ -60,7 +61,8 @@ def switch_process(rc: Reconfiguration, view: SwitchView) -> list[str | tuple[st
     coordinator = view.processes.get(rc.coordinator.path)
     if coordinator is None or not coordinator.variable:
         return []
-    lines: list[str | tuple[str, State]] = [line.format(coordinator=rc.coordinator.path) for line in HEADER]
+    shown = promela_comment(rc.coordinator.path)
+    lines: list[str | tuple[str, State]] = [line.format(coordinator=shown) for line in HEADER]
     lines += [_stop(agent, view) for agent in rc.agents]
     for number, structure in enumerate(rc.structures):
         for index, state in enumerate(coordinator.states):

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from earl_m2t.model.elements import Agent, EarlModel, Link, State, Subsystem, System
 from earl_m2t.model.kinds import Reactivation
 from earl_m2t.model.variability import Structure, coordinator, structures, variable_agents, variable_links
+from earl_m2t.verify.promela_text import promela_comment
 
 SWITCH_MARK = "EARLSWITCH"  # the printf tag of a switch event, read back from SPIN's replay
 
@@ -120,10 +121,10 @@ def reconfiguration(model: EarlModel) -> Reconfiguration | None:
 
 
 def declarations(rc: Reconfiguration) -> list[str]:
-    names = " ".join(f"{i}={s.configuration.name}" for i, s in enumerate(rc.structures))
+    names = promela_comment(" ".join(f"{i}={s.configuration.name}" for i, s in enumerate(rc.structures)))
     lines = [line.format(initial=rc.initial, names=names) for line in DECLARATIONS]
     for a in rc.agents:
-        lines += [line.format(active=a.active, leaving=a.leaving, path=a.agent.path,
+        lines += [line.format(active=a.active, leaving=a.leaving, path=promela_comment(a.agent.path),
                               initially="true" if a.initially else "false") for line in AGENT_DECLARATIONS]
     return lines
 
