@@ -1,4 +1,6 @@
-"""What the SysML v2 reader refuses before parsing: control characters and nesting beyond ``MAX_NESTING``.
+"""What the SysML v2 reader refuses before parsing: control characters, nesting beyond
+``MAX_NESTING`` and a run of more than ``MAX_NESTING`` prefix operators (``not not … x``: each
+one a level of the parser's recursion, as a bracket is).
 
 Both are reported as ``file:line:col: error: ...`` at the offending character. Control
 characters (C0 other than tab, line feed and carriage return; DEL; C1; U+FFFE, U+FFFF) cannot be
@@ -20,6 +22,8 @@ _OPEN = "{(["
 _BRACKET = re.compile(r"[{}()\[\]]")
 _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _CONTROL_ESCAPES = "bf"
+# prefix operators one after the other: ``not``, ``-``, ``+``, ``~``
+_PREFIX_RUN = re.compile(rf"(?:(?<![\w'])not(?![\w'])\s*|[-+~]\s*){{{MAX_NESTING + 1},}}")
 
 
 class Refused(Exception):
@@ -58,6 +62,10 @@ def refuse_unreadable(text: str) -> None:
                                                f"('{bracket.group(0)}'): not read")
         else:
             depth = max(depth - 1, 0)
+    run = _PREFIX_RUN.search(_SKIPPED.sub(lambda skipped: " " * len(skipped.group(0)), text))
+    if run is not None:
+        raise Refused(run.start(), f"more than {MAX_NESTING} prefix operators in a row ('{run.group(0)[:3].strip()}'): "
+                                   "not read")
 
 
 def _refuse_control_escape(quoted: str, offset: int) -> None:

@@ -1,0 +1,64 @@
+"""The reproductions of ``../shared/fuzz-findings/`` (an independent fuzzer's inputs, one per class
+of failure) replayed: each command ends with a one-line answer and an exit code of its contract
+(0-2; verify 0-3), never an internal error or a traceback, within its time bound.
+
+A finding is listed here once its class is fixed at the root; the folder's README says what
+each one is.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.support.paths import ROOT, SHARED
+
+FINDINGS = SHARED / "fuzz-findings"
+SECONDS = 30  # the bound the fuzz campaign holds every run to
+
+# (reproduction, command and its arguments after the model, exit codes its contract allows)
+REPLAYS = [
+    ("check-null-byte/model.uml", ["check"], {0, 1}),
+    ("check-null-byte/model.uml", ["show"], {0}),
+    ("minimal/n03_href_nul.uml", ["check"], {0, 1}),
+    ("minimal/n03_href_nul.uml", ["convert", "--to", "sysml"], {0, 2}),
+    ("verify-stopiteration/model.uml", ["verify"], {2}),
+    ("verify-stopiteration/model.uml", ["verify", "--force"], {0, 1, 3}),
+    ("minimal/n16_verify_initial_to_nowhere.uml", ["verify"], {2}),
+    ("verify-invalid-promela/model.sysml", ["verify"], {2}),
+    ("verify-invalid-promela/model.sysml", ["verify", "--force"], {2}),
+    ("diff-recursion/model.sysml", ["check"], {2}),
+    ("minimal/n04_not_chain_10000.sysml", ["check"], {2}),
+]
+
+
+def earl(*args: str | Path, cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "earl_m2t", *map(str, args)], capture_output=True, text=True,
+                          timeout=SECONDS, cwd=cwd)
+
+
+@pytest.mark.parametrize(("finding", "command", "allowed"), REPLAYS,
+                         ids=[f"{finding}-{' '.join(command)}" for finding, command, _ in REPLAYS])
+def test_the_reproduction_gets_an_answer_not_an_internal_error(finding: str, command: list[str], allowed: set[int],
+                                                              tmp_path: Path) -> None:
+    model = FINDINGS / finding
+    assert model.is_file(), f"{model} is missing from ../shared"
+    verb, *options = command
+    extra = ["-o", str(tmp_path / "out.sysml")] if verb == "convert" else []
+    result = earl(verb, model, *options, *extra, cwd=ROOT)
+    output = result.stdout + result.stderr
+    assert result.returncode in allowed, output[-2000:]
+    assert "internal error" not in output and "Traceback" not in output, output[-2000:]
+    if result.returncode == 2:  # refused: one line on stderr says why, naming the file
+        assert result.stderr.strip(), output
+        assert model.name in result.stderr or "earl-m2t:" in result.stderr, result.stderr
+
+
+def test_the_diff_of_a_model_the_reader_refuses_is_one_line() -> None:
+    sample = ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml"
+    result = earl("diff", sample, FINDINGS / "diff-recursion" / "model.sysml", cwd=ROOT)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert "prefix operators in a row" in result.stderr and "internal error" not in result.stderr
