@@ -32,6 +32,9 @@ REPLAYS = [
     ("verify-invalid-promela/model.sysml", ["verify", "--force"], {2}),
     ("diff-recursion/model.sysml", ["check"], {2}),
     ("minimal/n04_not_chain_10000.sysml", ["check"], {2}),
+    ("check-memory-sysml2-number/model.sysml", ["check"], {1}),
+    ("minimal/n08_replication_2e31.sysml", ["check"], {1}),
+    ("minimal/n08_replication_2e31.sysml", ["gen", "--target", "cpp"], {1}),
 ]
 
 
@@ -47,7 +50,7 @@ def test_the_reproduction_gets_an_answer_not_an_internal_error(finding: str, com
     model = FINDINGS / finding
     assert model.is_file(), f"{model} is missing from ../shared"
     verb, *options = command
-    extra = ["-o", str(tmp_path / "out.sysml")] if verb == "convert" else []
+    extra = {"convert": ["-o", str(tmp_path / "out.sysml")], "gen": ["-o", str(tmp_path / "out")]}.get(verb, [])
     result = earl(verb, model, *options, *extra, cwd=ROOT)
     output = result.stdout + result.stderr
     assert result.returncode in allowed, output[-2000:]

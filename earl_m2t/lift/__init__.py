@@ -43,4 +43,4 @@ def lift(raw: RawModel, profile: Profile | None = None, vocabulary: Vocabulary |
         suppressions=read_suppressions(raw),
         properties=read_properties(raw),
     )
-    return LiftResult(model, tuple(raw.diagnostics) + tuple(structure.diagnostics))
+    return LiftResult(model, tuple(raw.diagnostics) + tuple(types.diagnostics) + tuple(structure.diagnostics))

@@ -5,9 +5,11 @@ from __future__ import annotations
 import tomllib
 from functools import cache
 
+from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.replication import multiplicity
 from earl_m2t.model.datatypes import DataType, Field
 from earl_m2t.model.kinds import DataTypeKind
+from earl_m2t.model.limits import MAX_ARRAY
 from earl_m2t.model.location import Location
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 from earl_m2t.resources import metamodel_path
@@ -43,6 +45,7 @@ class DataTypeLifter:
         self.datatypes: dict[str, DataType] = {}
         self._keys: dict[int, str] = {}
         self._taken: dict[str, Element] = {}  # qualified name -> the element that has it
+        self.diagnostics: list[Diagnostic] = []  # R008: an array beyond its bound
 
     def type_of(self, typed: Element) -> tuple[str, str]:
         """(datatype key, unresolved reference text) for a typed element (property, port, parameter)."""
@@ -94,6 +97,11 @@ class DataTypeLifter:
                     continue
                 type_key, unresolved = self.type_of(attr)
                 lower, upper = multiplicity(raw, attr)
+                if upper is not None and upper > MAX_ARRAY:
+                    field_path = f"{qualified}.{raw.name(attr)}"
+                    self.diagnostics.append(Diagnostic(
+                        "R008", Severity.ERROR, f"field {field_path}: an array of {upper} elements, more than the "
+                        f"{MAX_ARRAY} earl-m2t generates", raw.location(attr), field_path))
                 fields.append(Field(raw.name(attr), type_key, lower, upper, raw.location(attr), unresolved))
             self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.STRUCT, fields=tuple(fields),
                                                  location=location)

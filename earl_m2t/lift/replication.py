@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from earl_m2t.model.limits import MAX_INSTANCES
 from earl_m2t.model.naming import instance_name
 from earl_m2t.read.xmi import Element, RawModel
 
@@ -37,6 +38,14 @@ def instance_count(lower: int, upper: int | None) -> int:
     if upper is not None and lower == upper and upper > 1:
         return upper
     return 1
+
+
+def over_bound(lower: int, upper: int | None) -> str:
+    """Why a multiplicity stands for more instances than earl-m2t expands, "" when it does not."""
+    count = instance_count(lower, upper)
+    if count <= MAX_INSTANCES:
+        return ""
+    return f"a multiplicity of {count} instances, more than the {MAX_INSTANCES} earl-m2t expands: not replicated"
 
 
 def expand(template: str, count: int) -> list[tuple[str, int]]:

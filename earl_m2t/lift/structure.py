@@ -12,7 +12,7 @@ from earl_m2t.lift.conditions import ConditionLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.recognise import Recogniser, Recognition
-from earl_m2t.lift.replication import expand, instance_count, multiplicity
+from earl_m2t.lift.replication import expand, instance_count, multiplicity, over_bound
 from earl_m2t.lift.variability import configurations, is_optional, reactivation_of
 from earl_m2t.model.elements import (
     Agent,
@@ -27,6 +27,7 @@ from earl_m2t.model.elements import (
     System,
 )
 from earl_m2t.model.kinds import Direction, GroupKind, ReceiveMode, SubsystemKind
+from earl_m2t.model.limits import MAX_QUEUE
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 
@@ -190,8 +191,15 @@ class StructureLifter:
         return agents
 
     def _instances(self, part: Element) -> list[tuple[str, int]]:
-        lower, upper = multiplicity(self.raw, part)
-        return expand(self.raw.name(part), instance_count(lower, upper))
+        return expand(self.raw.name(part), self._count(part))
+
+    def _count(self, el: Element) -> int:
+        """How many instances ``el`` stands for; beyond the bound an R008 error, and one."""
+        lower, upper = multiplicity(self.raw, el)
+        if problem := over_bound(lower, upper):
+            self._note("R008", Severity.ERROR, f"{self.raw.name(el)}: {problem}", el, self.raw.name(el))
+            return 1
+        return instance_count(lower, upper)
 
     # -- agents ------------------------------------------------------------------------------
     def _agents(self, part: Element, block: Element, robot: str, robot_part: Element | None,
@@ -266,13 +274,16 @@ class StructureLifter:
                     continue
                 direction = Direction.IN if concept == "InputBuffer" else Direction.OUT
                 datatype, unresolved = self.types.type_of(attr)
-                lower, upper = multiplicity(raw, attr)
+                count = self._count(attr)
                 receive, queue_size = (receive_of(raw, self.recogniser.tags(attr)) if direction is Direction.IN
                                        else (ReceiveMode.LATEST, 0))
+                if queue_size > MAX_QUEUE:
+                    self._note("R008", Severity.ERROR, f"{path}.{attr_name}: a queue of {queue_size} values, more "
+                               f"than the {MAX_QUEUE} earl-m2t generates", attr, f"{path}.{attr_name}")
                 buffers = [
                     Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
                            recognition.route, unresolved, receive, queue_size)
-                    for inst, k in expand(attr_name, instance_count(lower, upper))
+                    for inst, k in expand(attr_name, count)
                 ]
                 ports[id(attr)] = buffers
                 self._owners.update((b.path, (agent_path, path)) for b in buffers)
@@ -281,11 +292,11 @@ class StructureLifter:
                 (inputs if direction == "in" else outputs).extend(buffers)
             elif concept == "InternalMemory":
                 datatype, unresolved = self.types.type_of(attr)
-                lower, upper = multiplicity(raw, attr)
+                count = self._count(attr)
                 memory.extend(
                     Memory(inst, f"{path}.{inst}", datatype, attr_name, k, raw.location(attr), recognition.route,
                            unresolved)
-                    for inst, k in expand(attr_name, instance_count(lower, upper))
+                    for inst, k in expand(attr_name, count)
                 )
         ctx = BehaviourContext(raw, self.recogniser, path, tuple(inputs), tuple(outputs), tuple(memory))
         lifter = BehaviourLifter(ctx)

@@ -1037,6 +1037,16 @@ def import_from_a_missing_file(s: Sample) -> Expect:
     return Expect(s.id(package_import), "../libraries/robot-units.uml#_unitsPackage")
 
 
+def replication_beyond_its_bound(s: Sample) -> Expect:
+    """R008: the replicated Internal Memory emergencyStopCommandK/m of ManipulatorControl stands
+    for 2,147,483,648 instances instead of six."""
+    memory = s.attribute("ManipulatorControl", "emergencyStopCommandK/m")
+    for bound in memory:
+        if etree.QName(bound).localname in ("lowerValue", "upperValue"):
+            bound.set("value", "2147483648")
+    return Expect(s.id(memory), "2147483648 instances")
+
+
 def no_earl_model(s: Sample) -> Expect:
     """R003: the SystemInstance package is deleted (with every EARL stereotype applied in it):
     the file is a library of dataTypes, no EARL model."""
@@ -1192,6 +1202,7 @@ VARIANTS: dict[str, Mutation] = {
     "R004": import_from_a_missing_file,
     "R005": unused_suppression,
     "R006": suppression_without_reason,
+    "R008": replication_beyond_its_bound,
 }
 
 # Rows whose broken model is the SysML v2 text of the sample (samples/pick_and_place/pick_and_place.sysml):
