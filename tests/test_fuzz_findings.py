@@ -35,6 +35,12 @@ REPLAYS = [
     ("check-memory-sysml2-number/model.sysml", ["check"], {1}),
     ("minimal/n08_replication_2e31.sysml", ["check"], {1}),
     ("minimal/n08_replication_2e31.sysml", ["gen", "--target", "cpp"], {1}),
+    ("check-clean-gen-fails/model.sysml", ["check"], {1}),
+    ("check-clean-gen-fails/model.sysml", ["gen", "--target", "cpp"], {1}),
+    ("gen-ros-memory-ea/model.ea.xml", ["check"], {1}),
+    ("gen-ros-memory-ea/model.ea.xml", ["gen", "--target", "ros", "--force"], {0, 1}),
+    ("minimal/n09_nested_any_k_8.uml", ["check"], {1}),
+    ("minimal/n11_verify_timeout_any_k_6.uml", ["verify", "--timeout", "1"], {2}),
 ]
 
 

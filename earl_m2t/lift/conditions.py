@@ -44,6 +44,7 @@ from earl_m2t.predicate import (
     walk,
 )
 from earl_m2t.predicate.known import parsed
+from earl_m2t.predicate.transform import ExpansionRefused
 from earl_m2t.predicate.unsayable import unsayable_reason
 
 # (kind, message, line and column within the text) of a problem; line None: at the condition itself
@@ -90,7 +91,7 @@ class ConditionLifter:
         self.datatypes = datatypes  # the model's, complete for every type a buffer or memory names
         self._scopes: dict[tuple[object, ...], Scope] = {}
         # what a text that parses means in a scope, for the subsystems alike: (expr, expanded, problems)
-        self._resolved: dict[tuple[Scope, str], tuple[Expr, Expr, RelativeProblems]] = {}
+        self._resolved: dict[tuple[Scope, str], tuple[Expr, Expr | None, RelativeProblems]] = {}
 
     def scope(self, buffers: Iterable[Buffer], memory: Iterable[Memory],
               predicates: Iterable[PrimitivePredicate]) -> Scope:
@@ -140,8 +141,11 @@ class ConditionLifter:
         problems = tuple(_placed(problem, where) for problem in relative) if relative else ()
         return Condition(text, language, where, owner, role, expr, expanded, problems)
 
-    def _resolve_expr(self, expr: Expr, scope: Scope) -> tuple[Expr, Expr, RelativeProblems]:
-        expanded = expand_replicated(expr, lambda node: scope.replication_count(node) or None)
+    def _resolve_expr(self, expr: Expr, scope: Scope) -> tuple[Expr, Expr | None, RelativeProblems]:
+        try:
+            expanded: Expr | None = expand_replicated(expr, lambda node: scope.replication_count(node) or None)
+        except ExpansionRefused as refused:
+            return expr, None, ((ProblemKind.REFERENCE, refused.message, refused.line, refused.column),)
         found = ReferenceChecker(scope, self.datatypes).problems(expr)
         return expr, expanded, tuple((ProblemKind.REFERENCE, message, line, column) for message, line, column in found)
 

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 from typing import Literal, cast
 
+from earl_m2t.model.limits import MAX_EXPANSION
 from earl_m2t.model.naming import split
 from earl_m2t.predicate.ast import (
     And,
@@ -102,6 +103,34 @@ def substitute_index(expr: Expr, var: str, value: int | str) -> Expr:
     return visit(expr)  # type: ignore[return-value]
 
 
+class ExpansionRefused(ValueError):
+    """The replications of an expression cannot be written out: one rebinds the variable of a
+    replication it is in, or all of them together expand beyond ``MAX_EXPANSION`` nodes."""
+
+    def __init__(self, message: str, node: Replicated) -> None:
+        super().__init__(message)
+        self.message = message
+        self.line = node.line
+        self.column = node.column
+
+
+def _expanded_size(node: Node, count_for: Callable[[Replicated], int | None], bound: int,
+                   binding: frozenset[str] = frozenset()) -> int:
+    """The nodes ``node`` expands to (counted up to just past ``bound``); raises ExpansionRefused
+    for a replication inside one of the same variable."""
+    if isinstance(node, Replicated):
+        if node.var in binding:
+            raise ExpansionRefused(f"a replication over {node.var} inside another over {node.var}: each "
+                                   "replication needs its own variable", node)
+        count = count_for(node)
+        inner = _expanded_size(node.template, count_for, bound, binding | {node.var})
+        return inner if count is None else min(max(count, 1) * inner, bound + 1)
+    size = 1
+    for child in children(node):
+        size = min(size + _expanded_size(child, count_for, bound, binding), bound + 1)
+    return size
+
+
 def expand_replicated(expr: Expr, count_for: Callable[[Replicated], int | None]) -> Expr:
     """Replace each :class:`Replicated` by the And / Or of its template over ``var`` = 1..N.
 
@@ -109,11 +138,24 @@ def expand_replicated(expr: Expr, count_for: Callable[[Replicated], int | None])
     instances); None leaves that node, template included, as it is. N = 0 gives the
     neutral element (``FALSE`` for or, ``TRUE`` for and), N = 1 the single instance.
     Chains are flattened again: ``x ∨ a1 ∨ … ∨ aN`` with N = 2 becomes ``x ∨ a1 ∨ a2``.
+    Raises ExpansionRefused, before expanding anything, for a replication over the variable of
+    one it is in, or for more than ``MAX_EXPANSION`` nodes in all.
     """
+    counts: dict[int, int | None] = {}
+
+    def counted(node: Replicated) -> int | None:  # count_for once per replication
+        if id(node) not in counts:
+            counts[id(node)] = count_for(node)
+        return counts[id(node)]
+
+    size = _expanded_size(expr, counted, MAX_EXPANSION)
+    if size > MAX_EXPANSION:
+        first = next(n for n in _walk(expr) if isinstance(n, Replicated))
+        raise ExpansionRefused(f"its replications expand to more than {MAX_EXPANSION} terms", first)
 
     def visit(node: Node) -> Node:
         if isinstance(node, Replicated):
-            count = count_for(node)
+            count = counted(node)
             if count is None:
                 return node
             if count < 0:
@@ -130,6 +172,12 @@ def expand_replicated(expr: Expr, count_for: Callable[[Replicated], int | None])
         return node
 
     return visit(expr)  # type: ignore[return-value]
+
+
+def _walk(node: Node) -> Iterator[Node]:
+    yield node
+    for child in children(node):
+        yield from _walk(child)
 
 
 class OperandsDiffer(Exception):
