@@ -71,3 +71,15 @@ def test_the_diff_of_a_model_the_reader_refuses_is_one_line() -> None:
     result = earl("diff", sample, FINDINGS / "diff-recursion" / "model.sysml", cwd=ROOT)
     assert result.returncode == 2, result.stdout + result.stderr
     assert "prefix operators in a row" in result.stderr and "internal error" not in result.stderr
+
+
+def test_trace_of_a_corrupt_source_map_is_one_line(tmp_path: Path) -> None:
+    """R16: an entry of the wrong shape, and a map of 200,000 nested brackets."""
+    result = earl("trace", "generated/a.hpp:1", cwd=FINDINGS / "minimal" / "n14_trace")
+    assert result.returncode == 2 and "is malformed" in result.stderr, result.stdout + result.stderr
+    (tmp_path / "generated").mkdir()
+    (tmp_path / "generated" / "a.hpp").write_text("int a;\n")
+    (tmp_path / ".earl-trace.json").write_text("[" * 200_000)
+    result = earl("trace", "generated/a.hpp:1", cwd=tmp_path)
+    assert result.returncode == 2 and "not a source map" in result.stderr, result.stdout + result.stderr
+    assert "Traceback" not in result.stderr

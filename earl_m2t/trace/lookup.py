@@ -54,8 +54,8 @@ class SourceMaps:
             if path.is_file():
                 try:
                     document = json.loads(path.read_text(encoding="utf-8"))
-                except (OSError, ValueError) as error:
-                    raise TraceError(f"{path}: not a source map ({error})") from None
+                except (OSError, ValueError, RecursionError) as error:
+                    raise TraceError(f"{path}: not a source map ({type(error).__name__})") from None
                 if not isinstance(document, dict) or not isinstance(document.get("files"), dict):
                     raise TraceError(f"{path}: not a source map (no 'files')")
             self._maps[folder] = document
@@ -72,7 +72,11 @@ class SourceMaps:
                 relative = candidate.relative_to(folder).as_posix()
                 entry = document["files"].get(relative)
                 if entry is not None:
-                    return _origin(document, folder, entry, line)
+                    try:
+                        return _origin(document, folder, entry, line)
+                    except (TypeError, ValueError, AttributeError):  # a map edited or corrupted by hand
+                        raise TraceError(f"{folder / TRACE_FILE}: not a source map (its entry for {relative} "
+                                         "is malformed)") from None
         return None
 
 
