@@ -83,3 +83,17 @@ def test_trace_of_a_corrupt_source_map_is_one_line(tmp_path: Path) -> None:
     result = earl("trace", "generated/a.hpp:1", cwd=tmp_path)
     assert result.returncode == 2 and "not a source map" in result.stderr, result.stdout + result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_a_name_with_a_line_break_stays_inside_the_user_files_comment(tmp_path: Path) -> None:
+    """R9: a pf named ``jointMove⏎#error INJECTED⏎/pf``, generated with --force: the name is
+    shown on the header's comment line, never as a line of code."""
+    out = tmp_path / "out"
+    result = earl("gen", FINDINGS / "minimal" / "n12_pf_name_newline.uml", "--target", "cpp", "--force", "-o", out,
+                  cwd=ROOT)
+    assert result.returncode == 0, result.stdout + result.stderr
+    injected = [path for path in out.rglob("*.hpp") if any(line.startswith("#error")
+                                                             for line in path.read_text().splitlines())]
+    assert injected == []
+    (user_file,) = out.glob("user/manip_a/cs/jointMove*_pf.hpp")
+    assert user_file.read_text().splitlines()[0] == "// earl-m2t user file: pf manip/a.cs.jointMove #error INJECTED /pf"

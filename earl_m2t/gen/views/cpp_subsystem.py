@@ -206,6 +206,7 @@ class _SubsystemView:
 
     def _user_file(self, ident: str, path: str, language: str, body: str) -> Data:
         return {"agent": self.agent_ns, "sub": self.sub_ns, "name": ident, "path": path, "trace": path,
+                "comment": cpp_comment(path),
                 "namespace": self.namespace, "cls": ident, "base": f"{ident}_base",
                 "include": f"{self.types.ns}/{self.user_dir}/data.hpp", "language": cpp_comment(language),
                 "body": _body(body)}
