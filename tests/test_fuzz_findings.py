@@ -41,6 +41,9 @@ REPLAYS = [
     ("gen-ros-memory-ea/model.ea.xml", ["gen", "--target", "ros", "--force"], {0, 1}),
     ("minimal/n09_nested_any_k_8.uml", ["check"], {1}),
     ("minimal/n11_verify_timeout_any_k_6.uml", ["verify", "--timeout", "1"], {2}),
+    ("minimal/n06_first_timeout_1e300.uml", ["check"], {1}),
+    ("minimal/n06_first_timeout_1e300.uml", ["gen", "--target", "cpp", "--force"], {0}),
+    ("minimal/n06b_first_timeout_9.3e9.uml", ["check"], {1}),
 ]
 
 

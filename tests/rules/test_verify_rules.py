@@ -36,7 +36,8 @@ VARIANTS: dict[str, tuple[list[tuple[str, str]], str, str]] = {
 
 
 def _verify(path: Path, capsys: pytest.CaptureFixture[str], *extra: str) -> tuple[int, dict]:
-    code = main(["verify", str(path), "--format", "json", *extra])
+    """verify's JSON; with --force, as a mutant may also break a rule of check (V002's does)."""
+    code = main(["verify", str(path), "--format", "json", "--force", *extra])
     return code, json.loads(capsys.readouterr().out)
 
 

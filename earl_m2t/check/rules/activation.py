@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
 from earl_m2t.model.kinds import RECEIVE_MODES
+from earl_m2t.model.limits import MAX_SECONDS
 from earl_m2t.predicate import FieldRef, NewData
 from earl_m2t.predicate.walk import walk
 
@@ -62,7 +63,7 @@ def state_without_buffer_group(model: EarlModel) -> Iterator[Finding]:
 
 
 def _bad_seconds(value: float | None) -> bool:
-    return value is not None and (math.isnan(value) or math.isinf(value) or value < 0)
+    return value is not None and not (math.isfinite(value) and 0 <= value <= MAX_SECONDS)
 
 
 @rule("B011")
@@ -74,6 +75,9 @@ def activation_value_invalid(model: EarlModel) -> Iterator[Finding]:
             if buffer.receive not in RECEIVE_MODES:
                 yield Finding(f"Input Buffer {buffer.path} receives '{buffer.receive}'; the receive modes are "
                               f"{', '.join(RECEIVE_MODES)}", buffer.location, buffer.path)
+            elif buffer.receive == "queue" and buffer.queue_size == -1:
+                yield Finding(f"Input Buffer {buffer.path} receives a queue, but its tag queueSize is not a whole "
+                              "number", buffer.location, buffer.path)
             elif buffer.receive == "queue" and buffer.queue_size < 1:
                 yield Finding(f"Input Buffer {buffer.path} receives a queue of {buffer.queue_size}; a queue holds "
                               "at least one value (tag queueSize ≥ 1)", buffer.location, buffer.path)
@@ -86,7 +90,8 @@ def _state_values(state: State) -> Iterator[Finding]:
     for tag, value in (("minPeriod", activation.min_period), ("firstTimeout", activation.first_timeout),
                        ("nextTimeout", activation.next_timeout)):
         if _bad_seconds(value):
-            yield Finding(f"state {state.path}: {tag} is not a number of seconds ≥ 0", state.location, state.path)
+            yield Finding(f"state {state.path}: {tag} is not a number of seconds from 0 to {MAX_SECONDS:.0f} (a "
+                          "year)", state.location, state.path)
 
 
 def _optional_field(model: EarlModel, sub: Subsystem, ref: FieldRef) -> bool:

@@ -11,6 +11,7 @@ from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.elements import EarlModel, Subsystem, System
 from earl_m2t.model.kinds import REACTIVATIONS, SubsystemKind
+from earl_m2t.model.limits import MAX_SECONDS
 from earl_m2t.model.variability import coordinator, coordinators, present, system_links, variable_agents
 from earl_m2t.predicate import BuiltIn
 from earl_m2t.predicate.walk import walk
@@ -174,9 +175,9 @@ def variability_value_invalid(model: EarlModel) -> Iterator[Finding]:
                               f"are {', '.join(REACTIVATIONS)}", agent.location, agent.path)
         for cfg in system.configurations:
             timeout = cfg.switch_timeout
-            if timeout is not None and not (math.isfinite(timeout) and timeout > 0):
-                yield Finding(f"configuration {cfg.path}: switchTimeout is not a number of seconds > 0",
-                              cfg.location, cfg.path)
+            if timeout is not None and not (math.isfinite(timeout) and 0 < timeout <= MAX_SECONDS):
+                yield Finding(f"configuration {cfg.path}: switchTimeout is not a number of seconds > 0 and at most "
+                              f"{MAX_SECONDS:.0f} (a year)", cfg.location, cfg.path)
 
 
 @rule("X013")

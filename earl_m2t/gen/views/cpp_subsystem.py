@@ -17,6 +17,7 @@ from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.elements import Activation, BasicBehaviour, Buffer, EarlModel, State, Subsystem
+from earl_m2t.model.limits import MAX_SECONDS
 from earl_m2t.model.naming import stem
 from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, walk
 
@@ -373,8 +374,8 @@ def _quiescent(states: tuple[State, ...]) -> list[Data]:
 
 
 def _nanoseconds(seconds: float | None) -> int:
-    """Seconds as the runtime's nanoseconds; -1 (none) for no value (or one B011 rejects)."""
-    if seconds is None or not math.isfinite(seconds) or seconds < 0:
+    """Seconds as the runtime's nanoseconds; -1 (none) for no value (or one B011 rejects: gen --force)."""
+    if seconds is None or not math.isfinite(seconds) or not 0 <= seconds <= MAX_SECONDS:
         return -1
     return round(seconds * 1e9)
 

@@ -15,6 +15,7 @@ from earl_m2t.gen.names import Scope, cpp_comment, cpp_string
 from earl_m2t.model import variability
 from earl_m2t.model.elements import EarlModel, System
 from earl_m2t.model.kinds import REACTIVATIONS, Reactivation
+from earl_m2t.model.limits import MAX_SECONDS
 
 Data = dict[str, Any]
 
@@ -108,5 +109,5 @@ def _mask(flags: list[bool]) -> str:
 
 
 def _nanoseconds(seconds: float | None, default: float) -> int:
-    value = default if seconds is None or not math.isfinite(seconds) or seconds <= 0 else seconds
+    value = default if seconds is None or not math.isfinite(seconds) or not 0 < seconds <= MAX_SECONDS else seconds
     return round(value * 1e9)
