@@ -44,6 +44,13 @@ REPLAYS = [
     ("minimal/n06_first_timeout_1e300.uml", ["check"], {1}),
     ("minimal/n06_first_timeout_1e300.uml", ["gen", "--target", "cpp", "--force"], {0}),
     ("minimal/n06b_first_timeout_9.3e9.uml", ["check"], {1}),
+    # convert reads its text back before it writes it: the same model, or a refusal naming what differs
+    ("convert-unreadable/model.uml", ["convert", "--to", "sysml"], {2}),
+    ("convert-differs/model.uml", ["convert", "--to", "sysml"], {2}),
+    ("minimal/n13_model_name_space.uml", ["convert", "--to", "sysml"], {2}),
+    ("minimal/n13b_model_name_newline.uml", ["convert", "--to", "sysml"], {2}),
+    ("minimal/n13c_buffer_group_backslash.uml", ["convert", "--to", "sysml"], {2}),
+    ("minimal/n04b_convert_not_chain.uml", ["convert", "--to", "sysml"], {0}),
 ]
 
 
@@ -64,6 +71,8 @@ def test_the_reproduction_gets_an_answer_not_an_internal_error(finding: str, com
     output = result.stdout + result.stderr
     assert result.returncode in allowed, output[-2000:]
     assert "internal error" not in output and "Traceback" not in output, output[-2000:]
+    if verb == "convert":  # nothing written unless it reads back as the model it came from
+        assert (tmp_path / "out.sysml").exists() == (result.returncode == 0), output
     if result.returncode == 2:  # refused: one line on stderr says why, naming the file
         assert result.stderr.strip(), output
         assert model.name in result.stderr or "earl-m2t:" in result.stderr, result.stderr

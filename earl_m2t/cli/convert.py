@@ -2,7 +2,9 @@
 
 Writes to stdout, or to FILE atomically (through :mod:`earl_m2t.output`); an existing FILE
 with other content (hand edits, say) is kept unless ``--force``, exit 1. A model that cannot
-be read, or a file that cannot be written, is one line on stderr and exit 2.
+be read, or a file that cannot be written, is one line on stderr and exit 2. So is a model the
+text cannot carry: the text is read back before it is written, and must lift to the same EARL
+model (:mod:`earl_m2t.convert.round_trip`).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import load
     from earl_m2t.cli.model_file import write_model_file
     from earl_m2t.convert import to_sysml
+    from earl_m2t.convert.round_trip import NotARoundTrip, check_round_trip
     from earl_m2t.diagnostics import ModelReadError
 
     try:
@@ -47,6 +50,11 @@ def run(args: argparse.Namespace) -> int:
         print(exc.one_line(), file=sys.stderr)
         return 2
     text = to_sysml(loaded.model)
+    try:
+        check_round_trip(loaded.model, text)
+    except NotARoundTrip as refused:
+        print(f"earl-m2t: convert: {args.model}: {refused}; nothing written", file=sys.stderr)
+        return 2
     if not args.output:
         sys.stdout.write(text)
         return 0
