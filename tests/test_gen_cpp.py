@@ -106,6 +106,20 @@ def test_every_agent_has_its_own_executor_and_the_system_runs_threaded(built: tu
 
 
 @needs_toolchain
+@pytest.mark.parametrize("arguments", [("--cycles", "-1"), ("--cycles", "1.5"), ("--cycles", "99999999999999999999"),
+                                       ("--threaded", "inf"), ("--threaded", "1e300"), ("--threaded", "-1"),
+                                       ("--threaded", "nan"), ("--threaded", "0"), ("--threaded", "2s")])
+def test_the_executables_refuse_what_is_no_count_or_time(built: tuple[Path, Path], arguments: tuple[str, str]) -> None:
+    """A value that is not what it says is the usage line and exit 2, never another run (a
+    wrapped cycle count, a deterministic run for a threaded one, a sleep of inf)."""
+    _, build = built
+    result = subprocess.run([str(build / "PickAndPlace_system"), *arguments, "--quiet"], capture_output=True,
+                            text=True, timeout=30)
+    assert result.returncode == 2 and result.stderr.startswith("usage: "), (result.stdout, result.stderr)
+    assert result.stdout == ""
+
+
+@needs_toolchain
 def test_the_runtime_unit_test_passes(tmp_path: Path) -> None:
     binary = tmp_path / "test_runtime"
     run("g++", "-std=c++17", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic", "-pthread", "-I", RUNTIME,

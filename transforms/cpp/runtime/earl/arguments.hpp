@@ -1,0 +1,38 @@
+// earl runtime: the command-line values of the generated executables, read strictly: a
+// value that is not what it says (a negative or fractional cycle count, a time that is not a
+// finite number of seconds in range) is refused, never wrapped or clamped into another run.
+// Part of earl-m2t's C++ target; header-only, C++17.
+#pragma once
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+
+namespace earl {
+
+/// Cycles of a deterministic run: a whole number from 0 to 10^12 (decimal digits only).
+inline bool parseCycles(const char* text, std::uint64_t& cycles) noexcept {
+  if (text == nullptr || *text == '\0') return false;
+  std::uint64_t value = 0;
+  for (const char* c = text; *c != '\0'; ++c) {
+    if (*c < '0' || *c > '9') return false;
+    value = value * 10 + static_cast<std::uint64_t>(*c - '0');
+    if (value > 1'000'000'000'000ULL) return false;
+  }
+  cycles = value;
+  return true;
+}
+
+/// Seconds of a threaded run: a finite number greater than 0 and at most 10^6 (eleven days).
+inline bool parseSeconds(const char* text, double& seconds) noexcept {
+  if (text == nullptr || *text == '\0') return false;
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || errno != 0 || !std::isfinite(value) || value <= 0.0 || value > 1e6) return false;
+  seconds = value;
+  return true;
+}
+
+}  // namespace earl
