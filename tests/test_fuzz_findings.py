@@ -47,7 +47,8 @@ REPLAYS = [
     # convert reads its text back before it writes it: the same model, or a refusal naming what differs
     ("convert-unreadable/model.uml", ["convert", "--to", "sysml"], {2}),
     ("convert-differs/model.uml", ["convert", "--to", "sysml"], {2}),
-    ("minimal/n13_model_name_space.uml", ["convert", "--to", "sysml"], {2}),
+    ("minimal/n13_model_name_space.uml", ["convert", "--to", "sysml"], {0}),
+    ("minimal/n05_package_name_with_space.sysml", ["check"], {0}),
     ("minimal/n13b_model_name_newline.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n13c_buffer_group_backslash.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n04b_convert_not_chain.uml", ["convert", "--to", "sysml"], {0}),

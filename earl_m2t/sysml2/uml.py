@@ -48,6 +48,9 @@ class UmlWriter:
 
     # -- ids ----------------------------------------------------------------------------
     def new_id(self, wanted: str) -> str:
+        # an id is one token: references to ids are whitespace-separated lists (a quoted name
+        # such as 'System Instance' would otherwise refer to two ids)
+        wanted = "".join("_" if c.isspace() else c for c in wanted)
         candidate, n = wanted, self._last.get(wanted, 1)
         while candidate in self._used:  # resumes where the last id wanted as ``wanted`` ended: linear
             n += 1
