@@ -49,6 +49,8 @@ REPLAYS = [
     ("convert-differs/model.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n13_model_name_space.uml", ["convert", "--to", "sysml"], {0}),
     ("minimal/n05_package_name_with_space.sysml", ["check"], {0}),
+    ("minimal/n01_sysml_65536_lines.sysml", ["check"], {0, 1}),
+    ("minimal/n01_sysml_65536_lines.sysml", ["show"], {0}),
     ("minimal/n13b_model_name_newline.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n13c_buffer_group_backslash.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n04b_convert_not_chain.uml", ["convert", "--to", "sysml"], {0}),

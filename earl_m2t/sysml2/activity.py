@@ -17,7 +17,7 @@ from earl_m2t.read.xmi import Element
 from earl_m2t.sysml2.parser import identification, location, rule, simple_name
 from earl_m2t.sysml2.scope import Scope
 from earl_m2t.sysml2.texts import body_condition, chain_name
-from earl_m2t.sysml2.uml import ID, Block, UmlWriter
+from earl_m2t.sysml2.uml import ID, Block, UmlWriter, set_line
 
 CONDITION_ROLES = ("tc", "ec")
 START, DONE = "start", "done"
@@ -97,7 +97,7 @@ class ActivityWriter:
         """The control flows; an end that names no node is left out (rule T005 reports it)."""
         for source, target, line in self.edges:
             edge = self.uml.child(self.activity, "edge", "ControlFlow", None)
-            edge.sourceline = line
+            set_line(edge, line)
             for end, value in (("source", source), ("target", target)):
                 found = self.nodes.get(value) if isinstance(value, str) else value
                 if found is not None:

@@ -17,7 +17,7 @@ from earl_m2t.sysml2.activity import ActivityWriter
 from earl_m2t.sysml2.parser import identification, location, members, rule
 from earl_m2t.sysml2.scope import Scope
 from earl_m2t.sysml2.texts import chain_name, guard
-from earl_m2t.sysml2.uml import ID, Block, UmlWriter
+from earl_m2t.sysml2.uml import ID, Block, UmlWriter, set_line
 
 Later = list[Callable[[], None]]  # steps that need every block's behaviours first
 
@@ -61,7 +61,7 @@ class FsmWriter:
         initial = self.uml.child(region, "subvertex", "Pseudostate", member)
         initial.set("kind", "initial")
         transition = self.uml.child(region, "transition", "Transition", None)
-        transition.sourceline = location(member)[0]
+        set_line(transition, location(member)[0])
         transition.set("source", initial.get(ID) or "")
         found = states.get(chain_name(member.target))
         if found is not None:

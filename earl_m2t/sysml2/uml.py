@@ -38,6 +38,15 @@ class Block:
     behaviours: dict[str, str] = field(default_factory=dict)  # behaviour name -> xmi id
 
 
+LXML_LAST_LINE = 65_535  # lxml keeps an element's line in 16 bits, as it does when it parses XMI
+
+
+def set_line(element: Element, line: int) -> None:
+    """``element`` written at ``line`` of the text; past lxml's last line, at that line (an XMI
+    file parsed by lxml reports its later elements so too)."""
+    element.sourceline = min(line, LXML_LAST_LINE)
+
+
 class UmlWriter:
     def __init__(self, scope: Scope) -> None:
         self.scope = scope
@@ -71,7 +80,7 @@ class UmlWriter:
         model = etree.Element(f"{{{UML_NS}}}Model", nsmap={"xmi": XMI_NS, "uml": UML_NS})
         model.set(ID, self.new_id(name))
         model.set("name", name)
-        model.sourceline = line
+        set_line(model, line)
         return model
 
     def child(self, parent: Element, feature: str, uml_type: str, node: Any, name: str = "") -> Element:
@@ -84,7 +93,7 @@ class UmlWriter:
             if known is None:
                 known = self._ids[id(node)] = self.new_id(f"{parent.get(ID)}::{name or rule(node)}")
             child.set(ID, known)
-            child.sourceline = location(node)[0]
+            set_line(child, location(node)[0])
         else:
             child.set(ID, self.new_id(f"{parent.get(ID)}::{uml_type}"))
             child.sourceline = parent.sourceline
@@ -102,13 +111,13 @@ class UmlWriter:
         etree.SubElement(element, "language").text = language
         body = etree.SubElement(element, "body")
         body.text = text
-        body.sourceline = line or element.sourceline
+        set_line(body, line or element.sourceline)
 
     def constraint(self, owner: Element, name: str, condition: ConditionText, node: Any) -> Element:
         """A Constraint ``name`` whose specification is the condition's text."""
         language, text, line = condition
         constraint = self.child(owner, "ownedRule", "Constraint", None, name)
-        constraint.sourceline = line or location(node)[0]
+        set_line(constraint, line or location(node)[0])
         specification = self.child(constraint, "specification", "OpaqueExpression", None)
         self.body(specification, language, text, line)
         return constraint
