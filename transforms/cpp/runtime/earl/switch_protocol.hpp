@@ -13,9 +13,11 @@
 //             in a quiescent state (at once when forced: the switch timeout passed);
 //   park      every subsystem of a leaving agent stops; when forced, the values still queued
 //             for it, or still to arrive, are cleared and reported as undelivered, per link;
-//   activate  the joining agents are restarted or resumed;
-//   open      senders open the variable links of the new configuration; the coordinator then
-//             enters its new state.
+//   open      senders open the variable links of the new configuration (as earl::Switch
+//             does, before the joining agents run: what they send from their first iteration
+//             on goes out on them);
+//   activate  the joining agents are restarted or resumed; the coordinator then enters its
+//             new state.
 //
 // Every node acknowledges every round (at once for a round that does not concern it), so the
 // coordinator only counts acknowledgements. A transport delivers commands to SwitchMember::
@@ -35,7 +37,7 @@
 
 namespace earl {
 
-enum class SwitchRound : std::uint8_t { none = 0, close, drain, stop, park, activate, open };
+enum class SwitchRound : std::uint8_t { none = 0, close, drain, stop, park, open, activate };
 
 /// Coordinator -> every node.
 template <std::size_t Links>
@@ -382,10 +384,10 @@ class SwitchCoordinator final : public SwitchControl {
         return false;
       case SwitchRound::park:
         report();
-        send(SwitchRound::activate);
-        return false;
-      case SwitchRound::activate:
         send(SwitchRound::open);
+        return false;
+      case SwitchRound::open:
+        send(SwitchRound::activate);
         return false;
       default:
         finish();
