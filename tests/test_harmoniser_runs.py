@@ -14,13 +14,13 @@ checks of the resumed agent reject.
 
 from __future__ import annotations
 
-import re
 import shutil
 from pathlib import Path
 
 import pytest
 
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
+from tests.support.switch_checks import SWITCH, Harmoniser, switches, undelivered
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
@@ -30,12 +30,6 @@ USER = SAMPLE.parent / "user"
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
 CYCLES = 140
-
-LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+)$")
-PARK = re.compile(r"^guide/a\.cs: park after command (\d+)$")
-ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+)$")
-SWITCH = re.compile(r"^switch (\w+) -> (\w+) in \d+ cycles$")
-GUIDE_STEP = re.compile(r"^step (\d+) guide/a\.cs: (\w+) -> (\w+) ")
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
                                 reason="g++ and cmake are needed")
@@ -61,38 +55,12 @@ def trace(binary: Path) -> list[str]:
 
 
 def test_the_fall_switches_to_fall_response_and_back(trace: list[str]) -> None:
-    switches = [(m.group(1), m.group(2)) for m in map(SWITCH.match, trace) if m]
-    assert switches == [("none", "guiding"), ("guiding", "fallResponse"), ("fallResponse", "guiding")]
-    assert not [line for line in trace if "undelivered at switch" in line or "overflowed" in line]
+    assert switches(trace) == Harmoniser.SWITCHES
+    assert all(m.group(4) == "cycles" for m in map(SWITCH.match, trace) if m)
+    assert not undelivered(trace)
 
 
-def assert_resumed(trace: list[str]) -> None:
-    """Asserts that guide/a, resumed after the fall, goes on from its state and memory."""
-    fall = next(i for i, line in enumerate(trace) if SWITCH.match(line) and "-> fallResponse" in line)
-    back = next(i for i, line in enumerate(trace) if SWITCH.match(line) and "fallResponse -> guiding" in line)
-    before, after = trace[:fall], trace[back:]
-
-    # the waypoints carry on: 1, 2, … up to the fall, then the next one, never 1 again
-    waypoints_before = [int(m.group(1)) for m in map(LEAD.match, before) if m]
-    waypoints_after = [int(m.group(1)) for m in map(LEAD.match, after) if m]
-    assert waypoints_before == list(range(1, len(waypoints_before) + 1)) and len(waypoints_before) > 1
-    assert waypoints_after[0] == waypoints_before[-1] + 1
-    assert waypoints_after == list(range(waypoints_after[0], waypoints_after[0] + len(waypoints_after)))
-    assert not [line for line in trace[fall:back] if LEAD.match(line)]  # stopped while fallResponse holds
-
-    # its FSM: leaving() took it from leading to waiting, and it resumes in waiting at its next step
-    guide_steps = [(int(m.group(1)), m.group(2), m.group(3)) for m in map(GUIDE_STEP.match, trace) if m]
-    stopped = next((s for s in guide_steps if s[1:] == ("leading", "waiting")), None)
-    assert stopped is not None
-    resumed = [s for s in guide_steps if s[0] > stopped[0]]
-    assert resumed[0] == (stopped[0] + 1, "waiting", "leading")
-    assert not any(line.startswith("step 0 guide/a.cs: start") for line in after)
-
-    # its memory: the resumed park (in waiting, where it stopped) numbers its command after the
-    # ones sent before the fall
-    commands_before = waypoints_before[-1] + 1  # the first park, then one command per waypoint
-    (first_park_after, *_) = [int(m.group(1)) for m in map(PARK.match, after) if m]
-    assert first_park_after == commands_before + 1
+assert_resumed = Harmoniser.assert_resumed
 
 
 def test_the_resumed_guide_agent_goes_on_from_its_state_and_memory(trace: list[str]) -> None:
@@ -105,13 +73,12 @@ def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path) -> None:
     restarted = tmp_path / "harmoniser.sysml"
     restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
     lines = run(build(restarted, tmp_path), "--cycles", str(CYCLES)).splitlines()
-    back = next(i for i, line in enumerate(lines) if line.startswith("switch fallResponse -> guiding"))
-    assert next(m for m in map(LEAD.match, lines[back:]) if m).group(1) == "1"
+    assert Harmoniser.first_waypoint_back(lines) == 1
     with pytest.raises(AssertionError):
         assert_resumed(lines)
 
 
 def test_the_fall_help_agent_starts_from_its_initial_state(trace: list[str]) -> None:
-    steps = [int(m.group(1)) for m in map(ASSIST.match, trace) if m]
+    steps = Harmoniser.assist_steps(trace)
     assert steps == list(range(1, len(steps) + 1)) and len(steps) > 1
     assert "step 1 fallHelp/a.cs: waiting -> helping (waiting,helping/t)" in trace
