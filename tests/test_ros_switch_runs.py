@@ -23,12 +23,16 @@ from __future__ import annotations
 import re
 import statistics
 import time
+import xml.etree.ElementTree as ElementTree
 import xmlrpc.client
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
 
+from earl_m2t.api import load
+from earl_m2t.gen import render
+from earl_m2t.gen.views.switch_wiring import switch_wiring
 from tests.support.cpp_sample import cmake_build, generate_with_user_code
 from tests.support.cpp_sample import run as run_cpp
 from tests.support.load import cpu_hogs, run_until
@@ -53,7 +57,11 @@ LOADED_RUNS = 50
 LAUNCH_TIMEOUT = 30.0  # s per launch: start-up of the nodes under load, then well under a second of script
 WAYPOINTS_BACK = 5  # the harmoniser's launch stops once guide/a led to this many waypoints back in guiding
 
-pytestmark = [needs_catkin, needs_roslaunch]
+
+def launched(test: Callable[..., None]) -> Callable[..., None]:
+    """A test that builds with catkin_make and launches with roslaunch."""
+    return needs_catkin(needs_roslaunch(test))
+
 
 Lines = list[str]
 
@@ -120,6 +128,53 @@ def report(sample: str, latencies: list[float], seconds: list[float]) -> None:
           f"{statistics.median(seconds):.2f} s, longest {max(seconds):.2f} s")
 
 
+# ------------------------------------------------------------------ the generated wiring
+
+def launch_nodes(files: dict[str, bytes]) -> dict[str, ElementTree.Element]:
+    """Every <node> of the agents' launch files, by its model path."""
+    nodes = {}
+    for path, content in files.items():
+        if path.endswith(".launch") and "_bringup/" not in path:
+            for node in ElementTree.fromstring(content).iter("node"):
+                params = {p.get("name"): p.get("value") for p in node.iter("param")}
+                nodes[str(params["path"])] = node
+    return nodes
+
+
+@pytest.mark.parametrize("sample", [TWO_ARM, HARMONISER], ids=["two_arm", "harmoniser"])
+def test_each_variable_link_is_a_topic_of_its_own_and_each_node_is_wired_as_the_switch_numbers_it(
+        sample: Path) -> None:
+    model = load(sample).model
+    wiring = switch_wiring(model)
+    assert wiring is not None
+    files = render(model, "ros").generated
+    nodes = launch_nodes(files)
+    assert sorted(nodes) == sorted(n.path for n in wiring.nodes)
+    for n in wiring.nodes:
+        params = {p.get("name"): p.get("value") for p in nodes[n.path].iter("param")}
+        assert (params["switch_node"], params["switch_agent"], params["switch_nodes"]) == (
+            str(n.index), str(n.agent), str(len(wiring.nodes)))
+        assert params["switch_control"] == str(n.control).lower()
+        assert params["switch_coordinator"] == str(n.coordinator).lower()
+        received = sorted(int(v) for k, v in params.items() if str(k).endswith("_switch_link"))
+        assert received == sorted(n.receives)
+        sent = sorted(int(item.partition(":")[0]) for k, v in params.items() if str(k).endswith("_switch_links")
+                      for item in str(v).split())
+        assert sent == sorted(n.sends)
+    remaps = [r.get("to", "") for node in nodes.values() for r in node.iter("remap")]
+    variable = [r for r in remaps if "__" in r]
+    assert len(set(variable)) == len(variable) == len(wiring.links) == 4  # a topic per variable link
+    assert len(remaps) - len(variable) == len(model.links) - len(wiring.links)  # the fixed links: as before
+    msgs = {path.rpartition("/")[2] for path in files if path.endswith(".msg")}
+    assert {"EarlSwitch.msg", "EarlSwitchAck.msg"} <= msgs
+
+
+def test_a_model_without_configurations_gets_no_switch() -> None:
+    files = render(load(ROOT / "samples" / "pick_and_place" / "pick_and_place.uml").model, "ros").generated
+    assert not [path for path in files if "EarlSwitch" in path or path.endswith("switch_protocol.hpp")]
+    assert not [path for path, content in files.items() if b"switch_node" in content or b"/earl/switch" in content]
+
+
 # ------------------------------------------------------------------ two_arm
 
 def two_arm_problems(lines: Lines, reached: bool, expected: list[tuple[str, str]], timeouts: dict[str, float]
@@ -139,6 +194,7 @@ def two_arm_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str
     return switches(trace)
 
 
+@launched
 def test_two_arm_launches_under_load_hand_every_command_over(
         two_arm: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy],
         two_arm_switches: list[tuple[str, str]]) -> None:
@@ -158,6 +214,7 @@ def test_two_arm_launches_under_load_hand_every_command_over(
     assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures)
 
 
+@launched
 def test_two_arm_checks_catch_a_build_that_skips_the_drain(
         tmp_path_factory: pytest.TempPathFactory, core: tuple[Path, int, xmlrpc.client.ServerProxy],
         two_arm_switches: list[tuple[str, str]]) -> None:
@@ -203,6 +260,7 @@ def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, s
     return found
 
 
+@launched
 def test_harmoniser_launches_under_load_resume_the_guide_agent(
         harmoniser: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy],
         tmp_path_factory: pytest.TempPathFactory) -> None:
@@ -225,6 +283,7 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
     assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures)
 
 
+@launched
 def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_checks(
         tmp_path_factory: pytest.TempPathFactory, core: tuple[Path, int, xmlrpc.client.ServerProxy]) -> None:
     folder = tmp_path_factory.mktemp("harmoniser_restarted")
