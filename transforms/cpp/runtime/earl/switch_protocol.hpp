@@ -4,11 +4,14 @@
 // every node has acknowledged it with a SwitchAck before it sends the next round.
 //
 //   close     senders close their variable links that the new configuration lacks and
-//             report how many values they sent on each (cumulative counts); the agents that
-//             leave see leaving() true;
+//             report how many values they sent on each (cumulative counts);
 //   drain     with the counts of the close: a receiver of a closed link acknowledges once that
 //             many values have arrived on it (the transport keeps each link's order) and, when
-//             its agent leaves, once it has read them all;
+//             its agent leaves, once it has read them all. A leaving agent sees leaving() true
+//             once they have arrived, not before: values still in flight at the close would
+//             otherwise come after its FSM reached a quiescent state that reads them no more,
+//             and the drain would wait for the timeout (in one process, earl::Switch closes the
+//             senders' gates before the agents see leaving(), so nothing is in flight then);
 //   stop      the control subsystem of a leaving agent stops at its first iteration boundary
 //             in a quiescent state (at once when forced: the switch timeout passed);
 //   park      every subsystem of a leaving agent stops; when forced, the values still queued
@@ -149,6 +152,9 @@ class SwitchMember final : public SwitchControl {
     bool done = true;
     switch (c.round) {
       case SwitchRound::drain:
+        if (leaves() && slot_.phase() == AgentSlot::Phase::active && arrivedAll(false)) {
+          slot_.set(AgentSlot::Phase::leaving);
+        }
         done = arrivedAll(leaves());
         break;
       case SwitchRound::stop:
@@ -229,7 +235,6 @@ class SwitchMember final : public SwitchControl {
       open_[l] = false;
       if (receivers_[l].gate != nullptr) receivers_[l].gate->close();
     }
-    if (leaves()) slot_.set(AgentSlot::Phase::leaving);
   }
 
   /// Every closed link into this node has brought what was sent on it, and (``read``) the
