@@ -299,6 +299,6 @@ def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_che
     lines, reached, _ = launch(ws, core, back_in_guiding)
     assert reached and switches(lines) == Harmoniser.SWITCHES and not undelivered(lines)
     assert Harmoniser.first_waypoint_back(lines) == 1
-    assert any(line.startswith("step 0 guide/a.cs: start") for line in lines[Harmoniser.resumed_at(lines)[1]:])
+    assert any(Harmoniser.GUIDE_START.match(line) for line in lines[Harmoniser.resumed_at(lines)[1]:])
     with pytest.raises(AssertionError):
         Harmoniser.assert_resumed(lines)

@@ -13,7 +13,7 @@ could not deliver.
 
 The checks: every numbered command is taken exactly once, by the arm of the configuration it
 was sent in; no value is undelivered at a switch and no queue overflows; 20 switches, each
-within the configuration's switchTimeout (50 ms: 50 cycles of 1 ms, or 50 ms measured).
+within the configuration's switchTimeout (100 ms: 100 cycles of 1 ms, or 100 ms measured).
 """
 
 from __future__ import annotations

@@ -41,7 +41,7 @@ class TwoArm:
 
     COMMANDS = 201  # 10 per configuration before each of the 20 hand-overs, then one more
     SWITCHES = 20
-    TIMEOUT_MS = 50.0
+    TIMEOUT_MS = 100.0  # the switchTimeout of useA and useB
 
     SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
     TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
@@ -97,6 +97,7 @@ class Harmoniser:
     ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+)$")
     GUIDE_STEP = re.compile(r"^step (\d+) guide/a\.cs: (\w+) -> (\w+) ")
     GUIDE = re.compile(r"^(?:step \d+ )?guide/a\.cs: ")
+    GUIDE_START = re.compile(r"^step \d+ guide/a\.cs: start in ")  # its initial state entered
     FALL_HELP = re.compile(r"^(?:step \d+ )?fallHelp/a\.cs: ")
 
     @classmethod
@@ -138,7 +139,7 @@ class Harmoniser:
         assert parked == list(range(stopped[0] + 1, stopped[0] + 1 + len(parked)))
         resumed = [s for s in guide_steps if s[0] > stopped[0]]
         assert resumed[0] == (stopped[0] + len(parked) + 1, "waiting", "leading")
-        assert not any(line.startswith("step 0 guide/a.cs: start") for line in after)
+        assert not any(cls.GUIDE_START.match(line) for line in after)
 
         # its memory: the resumed park (in waiting, where it stopped) numbers its command after the
         # ones sent before the fall
