@@ -53,7 +53,7 @@ N_JOINTS = 6
 COMMANDS_PER_ARM = 10  # task/a hands the job over after this many commands to one arm ...
 HAND_OVERS = 20  # ... and has finished after this many hand-overs
 COMMAND_QUEUE = 32  # manipX/a.cs's manipulatorCommand/ib: task/a's commands, in order
-SWITCH_TIMEOUT = 0.05  # s: a switch that has not drained by then stops the leaving arm anyway
+SWITCH_TIMEOUT = 0.1  # s: a switch that has not drained by then stops the leaving arm anyway
 ARM_A_OFF_IN_USE_B = "[] (config@useB -> !manipA/a@active)"
 # every state of a manipulator's cs: an iteration per command of task/a (waiting at most 100 ms
 # on entering a state, 20 ms later), at most one per 0.5 ms, so that it catches up when behind

@@ -7,11 +7,8 @@ from __future__ import annotations
 import os
 import re
 import shutil
-import signal
-import socket
 import subprocess
 import sys
-import time
 import xml.etree.ElementTree as ElementTree
 import xmlrpc.client
 from pathlib import Path
@@ -21,32 +18,16 @@ import pytest
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, render
 from tests.support.load import cpu_hogs, run_until
+from tests.support.ros_launch import PYTHON, clear_start_barrier, free_port, needs_catkin, needs_roslaunch, run, stop
 
 ROOT = Path(__file__).resolve().parents[1]
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
-PYTHON = "/usr/bin/python3"  # the system python, which has catkin_pkg
 STATE = re.compile(r"^step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 LOADED_RUNS = 50
 LAUNCH_TIMEOUT = 60.0  # s per launch: start-up of the 17 nodes under load, then about 1 s of script
-
-needs_catkin = pytest.mark.skipif(
-    shutil.which("catkin_make") is None or not Path("/usr/include/ros/ros.h").is_file()
-    or not Path("/usr/share/std_msgs").is_dir() or not Path("/usr/share/message_generation").is_dir(),
-    reason="the ROS 1 Debian packages are missing (./dev installs catkin libroscpp-dev ros-message-generation "
-           "libstd-msgs-dev ros-std-msgs)")
-needs_roslaunch = pytest.mark.skipif(
-    shutil.which("roslaunch") is None or shutil.which("roscore") is None,
-    reason="roslaunch and roscore are missing (./dev installs python3-roslaunch rosout python3-rostopic rosbash)")
-
-
-def run(*command: str | Path, cwd: Path | None = None, timeout: int = 120) -> str:
-    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, timeout=timeout, cwd=cwd)
-    assert result.returncode == 0, f"{command[0]} failed:\n{result.stdout[-4000:]}\n{result.stderr[-4000:]}"
-    return result.stdout
-
 
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
@@ -172,41 +153,6 @@ def test_catkin_make_builds_the_messages_and_one_node_per_subsystem_definition(b
                      "pick_and_place_manip_a/motor_controller_k_ve_node", "pick_and_place_manip_a/motor_k_re_node",
                      "pick_and_place_task_a/cs_node"]
     assert (built / "devel" / "include" / "pick_and_place_msgs" / "ManipulatorCommand.h").is_file()
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-def stop(process: subprocess.Popen[bytes]) -> None:
-    """SIGINT (roslaunch then stops its nodes), then SIGKILL to the process group."""
-    if process.poll() is None:
-        os.killpg(process.pid, signal.SIGINT)
-        try:
-            process.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            pass
-    try:
-        os.killpg(process.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
-    process.wait(timeout=10)
-
-
-def clear_start_barrier(master: xmlrpc.client.ServerProxy) -> None:
-    """Delete the previous run's /earl_ready parameters (the nodes' start barrier), waiting for
-    the master to answer (the first time roscore may still be starting)."""
-    deadline = time.monotonic() + 30
-    while True:
-        try:
-            master.deleteParam("/test", "/earl_ready")
-            return
-        except OSError:
-            if time.monotonic() > deadline:
-                raise
-            time.sleep(0.1)
 
 
 def manip_states(lines: list[str]) -> list[str]:

@@ -107,8 +107,8 @@ def test_the_two_arm_sample_says_how_its_structure_varies() -> None:
     arms, the coordinator's configurations and the arms' quiescent state."""
     (system,) = _papyrus("two_arm")["systems"]
     assert [(c["name"], c["agents"], c["links"], c["switch_timeout"]) for c in system["configurations"]] == [
-        ("useA", ["manipA/a"], ["task/a,manipA/a", "manipA/a,task/a"], 0.05),
-        ("useB", ["manipB/a"], ["task/a,manipB/a", "manipB/a,task/a"], 0.05),
+        ("useA", ["manipA/a"], ["task/a,manipA/a", "manipA/a,task/a"], 0.1),
+        ("useB", ["manipB/a"], ["task/a,manipB/a", "manipB/a,task/a"], 0.1),
     ]
     agents = {agent["name"]: agent for agent in system["agents"]}
     assert [name for name, agent in agents.items() if agent.get("optional")] == ["manipA/a", "manipB/a"]

@@ -13,14 +13,13 @@ could not deliver.
 
 The checks: every numbered command is taken exactly once, by the arm of the configuration it
 was sent in; no value is undelivered at a switch and no queue overflows; 20 switches, each
-within the configuration's switchTimeout (50 ms: 50 cycles of 1 ms, or 50 ms measured).
+within the configuration's switchTimeout (100 ms: 100 cycles of 1 ms, or 100 ms measured).
 """
 
 from __future__ import annotations
 
 import json
 import os
-import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -29,21 +28,17 @@ import pytest
 
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
+from tests.support.switch_checks import SWITCH, TwoArm
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "two_arm" / "two_arm.uml"
 USER = SAMPLE.parent / "user"
-COMMANDS = 201  # 10 per configuration before each of the 20 hand-overs, then one more
-SWITCHES = 20
-TIMEOUT_MS = 50.0
+COMMANDS = TwoArm.COMMANDS
+SWITCHES = TwoArm.SWITCHES
+TIMEOUT_MS = TwoArm.TIMEOUT_MS
 CYCLES = 6000
 LOADED_RUNS = 50
 RUN_TIMEOUT = 10.0  # s per threaded run: the sample needs about 0.25 s
-
-SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
-TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
-SWITCH = re.compile(r"^switch (use[AB]) -> (use[AB]) in (\d+(?:\.\d+)?) (cycles|ms)$")
-FINISHED = re.compile(r"^step \d+ task/a\.cs: with[AB] -> finished ")
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
                                 reason="g++ and cmake are needed")
@@ -69,37 +64,8 @@ def undrained(generated: Path) -> Path:
     return build(generated, generated.parent / "build_undrained", "-DEARL_SWITCH_DRAIN=0")
 
 
-def problems(lines: list[str]) -> list[str]:
-    """What the run shows against the checks of this module; empty when it passes them."""
-    sent: dict[int, str] = {}
-    found: list[str] = []
-    for match in filter(None, map(SENT.match, lines)):
-        seq, arm = int(match.group(1)), match.group(2)
-        if seq in sent:
-            found.append(f"seq {seq} sent twice")
-        sent[seq] = arm
-    if sorted(sent) != list(range(1, COMMANDS + 1)):
-        found.append(f"{len(sent)} numbered commands sent, not 1..{COMMANDS}")
-    taken: dict[int, list[str]] = {}
-    for match in filter(None, map(TOOK.match, lines)):
-        taken.setdefault(int(match.group(2)), []).append(match.group(1))
-    for seq, arm in sorted(sent.items()):
-        arms = taken.get(seq, [])
-        if arms != [arm]:
-            found.append(f"seq {seq} sent to {arm}, taken by {arms or 'none'}")
-    found += [f"taken but never sent: {seq}" for seq in sorted(set(taken) - set(sent))]
-    switches = [m for m in map(SWITCH.match, lines) if m]
-    if len(switches) != SWITCHES:
-        found.append(f"{len(switches)} switches")
-    found += [f"{m.group(0)}: beyond {TIMEOUT_MS} ms" for m in switches if float(m.group(3)) > TIMEOUT_MS]
-    found += [line for line in lines if "undelivered at switch" in line or "overflowed" in line]
-    return found[:12]
-
-
-def finished(lines: list[str]) -> bool:
-    """task/a has finished and the last command was taken (or a second passed since)."""
-    return any(FINISHED.match(line) for line in lines) and any(line.endswith(f"took seq {COMMANDS}")
-                                                                  for line in lines)
+problems = TwoArm.problems
+finished = TwoArm.finished
 
 
 def threaded_run(binary: Path) -> list[str]:

@@ -176,7 +176,7 @@ def test_the_specification_lists_the_configurations(tmp_path: Path) -> None:
     assert "Quiescent states (a switch may stop the agent while one is current): idle." in text
 
 
-@pytest.mark.parametrize("target", ["ros", "orocos"])
+@pytest.mark.parametrize("target", ["orocos"])
 def test_a_target_that_cannot_switch_refuses_the_model_in_one_line(target: str, tmp_path: Path) -> None:
     result = earl_m2t("gen", str(FIXTURE), "--target", target, "-o", str(tmp_path / "out"))
     assert result.returncode == 1

@@ -33,6 +33,9 @@ def _render(run: TargetRun) -> Rendered:
     names = {"msgs": system["msgs"], "bringup": system["bringup"], "model": view.convert["ns"].removesuffix("_ros")}
     for template, pattern in sorted(groups["msgs"].items()):
         put_file(generated, pattern.format(**names), render_template(env, template, system=system))
+    if system["switch"]:
+        for template, pattern in sorted(groups["switch_msgs"].items()):
+            put_file(generated, pattern.format(**names), render_template(env, template, system=system))
     for template, pattern in sorted(groups["system"].items()):
         put_file(generated, pattern.format(**names),
                  render_template(env, template, system=system, convert=view.convert))

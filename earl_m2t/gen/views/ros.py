@@ -10,6 +10,13 @@ of one scope that map to the same ROS name are refused (D004), or with ``--force
 output buffer on its own topic and subscribes each input buffer on its own topic; a link
 remaps the input's topic onto the output's, so the links of the model are exactly the
 connections of the running graph.
+
+A model with configurations (``switch_wiring``) adds, per node instance, its part in the switch
+of ``earl/switch_protocol.hpp`` as private parameters of the launch file: its node number, its
+variable agent, whether it is that agent's control subsystem or the coordinator, the variable
+link of each input topic and the variable links of each output. Each variable link is its own
+topic, ``<output topic>__<link>``, published only while the link is open; the commands and
+acknowledgements of the switch go over ``/earl/switch`` and ``/earl/switch_ack``.
 """
 
 from __future__ import annotations
@@ -22,6 +29,7 @@ from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import cpp_identifier, cpp_string
 from earl_m2t.gen.views.cpp import CppView
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
+from earl_m2t.gen.views.switch_wiring import SwitchWiring, switch_wiring
 from earl_m2t.model.elements import Buffer, EarlModel, Subsystem, System
 
 Data = dict[str, Any]
@@ -38,13 +46,17 @@ class RosTarget:
     queue: int  # subscriber and publisher queue size
     bringup_suffix: str
     std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message
+    switch_messages: tuple[str, ...] = ()  # the switch's messages (a model with configurations)
+    switch_queue: int = 1000  # queue size of the switch's control topics
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> RosTarget:
         node = spec.get("node", {})
         return cls(period=float(node.get("period", 0.01)), queue=int(node.get("queue", 10)),
                    bringup_suffix=str(spec.get("bringup_suffix", "_bringup")),
-                   std_msgs=dict(spec["std_msgs"]))
+                   std_msgs=dict(spec["std_msgs"]),
+                   switch_messages=tuple(spec.get("switch", {}).get("messages", ())),
+                   switch_queue=int(spec.get("switch", {}).get("queue", 1000)))
 
 
 @dataclass
@@ -116,6 +128,9 @@ class _Builder:
         self.node_of_block: dict[str, Data] = {}  # block id -> the node of that subsystem definition
         self.instance_of: dict[str, Data] = {}  # subsystem instance path -> its node instance
         self.topic_of: dict[str, str] = {}  # buffer instance path -> its absolute topic
+        self.wiring: SwitchWiring | None = switch_wiring(model)
+        self.link_names = _Scope("variable link", strict)
+        self.link_topic: dict[str, str] = {}  # variable link path -> its ROS-safe name
 
     def build(self) -> RosView:
         packages = self._packages()
@@ -123,10 +138,13 @@ class _Builder:
         nodes = self._nodes()
         self._instances()
         links = self._links()
+        messages = [m["name"] for m in self.msgs.messages]
+        if self.wiring is not None:
+            messages += list(self.target.switch_messages)
         system = {"model": self.cpp.system["model"], "msgs": self.msgs.package,
-                  "messages": [m["name"] for m in self.msgs.messages], "bringup": bringup, "stem": self.stem,
+                  "messages": messages, "bringup": bringup, "stem": self.stem,
                   "agents": packages, "links": links, "period": self.target.period, "nodes": len(self.instance_of),
-                  "trace": self.cpp.system["trace"]}
+                  "trace": self.cpp.system["trace"], "switch": self.wiring is not None}
         return RosView(system=system, packages=packages, nodes=nodes, convert=self._convert())
 
     def _message(self, datatype: str, where: str) -> tuple[str, str, str]:
@@ -201,7 +219,19 @@ class _Builder:
                 "inputs": [e for e in elements if e["kind"] == "ib"],
                 "outputs": [e for e in elements if e["kind"] == "ob"], "period": self.target.period,
                 "queue": self.target.queue, "convert": f"{model_ns}/ros/convert.hpp",
-                "convert_ns": f"{model_ns}_ros", "model": self.cpp.system["model"]}
+                "convert_ns": f"{model_ns}_ros", "model": self.cpp.system["model"], "switch": self._node_switch()}
+
+    def _node_switch(self) -> Data | None:
+        """What a node of a model with configurations needs to take part in the switch."""
+        if self.wiring is None:
+            return None
+        switching = self.cpp.system["switching"]
+        return {"system": f"::{self.model_ns}::System", "include": f"{self.model_ns}/system.hpp",
+                "nodes": len(self.wiring.nodes), "initial": switching["initial"],
+                "initial_comment": switching["initial_comment"], "queue": self.target.switch_queue,
+                "command": f"{self.msgs.package}::{self.target.switch_messages[0]}",
+                "ack": f"{self.msgs.package}::{self.target.switch_messages[1]}",
+                "headers": [f"{self.msgs.package}/{m}.h" for m in self.target.switch_messages]}
 
     def _topics(self, definition: Data, sub: Subsystem) -> tuple[list[Data], set[str]]:
         """The topic of every buffer of a node, by port and index, and the message headers it needs.
@@ -242,7 +272,7 @@ class _Builder:
                 node = self.node_of_block[sub.block_id]
                 name = node_names.take(instance_view["member"], sub.path)
                 instance = {"name": name, "ns": package["ns"], "pkg": node["package"], "type": node["exe"],
-                            "path": sub.path, "remaps": [], "trace": sub.path}
+                            "path": sub.path, "remaps": [], "trace": sub.path, "switch": self._instance_switch(sub)}
                 if node["package"] != package["name"]:
                     package["depends"].add(node["package"])
                 package["instances"].append(instance)
@@ -252,6 +282,24 @@ class _Builder:
                     element = by_end[(buf.template, buf.index)]
                     self.topic_of[buf.path] = f"/{package['ns']}/{name}/{element['topic']}"
             package["depends"] = sorted(package["depends"])
+
+    def _instance_switch(self, sub: Subsystem) -> Data | None:
+        """The part of a node instance in the switch (launch file parameters), None without one."""
+        if self.wiring is None:
+            return None
+        wiring = self.wiring.node(sub.path)
+        return {"node": wiring.index, "agent": wiring.agent, "control": str(wiring.control).lower(),
+                "coordinator": str(wiring.coordinator).lower(), "nodes": len(self.wiring.nodes),
+                "inputs": [], "outputs": {}}
+
+    def _variable_link(self, path: str, name: str) -> tuple[int, str]:
+        """(index, ROS-safe name) of a variable link, (-1, "") for a link of every configuration."""
+        index = self.wiring.link_index(path) if self.wiring is not None else -1
+        if index < 0:
+            return -1, ""
+        if path not in self.link_topic:
+            self.link_topic[path] = self.link_names.take(name, path)
+        return index, self.link_topic[path]
 
     def _links(self) -> list[Data]:
         """Every link: a remap of the input's topic onto the output's, and the link counts each node
@@ -273,17 +321,26 @@ class _Builder:
             k = used.get(link.target, 0)
             used[link.target] = k + 1
             source = topic_of[link.source]
+            variable, safe = self._variable_link(link.path, link.name)
+            source_sub = model.subsystem_of(link.source)
+            assert source_sub is not None
+            if variable >= 0:  # its own topic, published while the link is open
+                source = f"{source}__{safe}"
+                instance["switch"]["inputs"].append((element["topics"][k], variable))
+                outputs = self.instance_of[source_sub.path]["switch"]["outputs"]
+                outputs.setdefault(topic_of[link.source].rpartition("/")[2], []).append(f"{variable}:{safe}")
             remap_from = f"/{instance['ns']}/{instance['name']}/{element['topics'][k]}"
             instance["remaps"].append({"from": remap_from, "to": source, "link": link.name, "trace": link.path})
             counts[(target_sub.path, element["topics"][k])] = 1
             source_name = source.rpartition("/")[2]
-            source_sub = model.subsystem_of(link.source)
-            assert source_sub is not None
             counts[(source_sub.path, source_name)] = counts.get((source_sub.path, source_name), 0) + 1
             links.append({"name": link.name, "source": link.source, "target": link.target, "topic": source,
                           "trace": link.path})
         for path, instance in self.instance_of.items():
             instance["links"] = sorted((topic, n) for (p, topic), n in counts.items() if p == path)
+            if instance["switch"] is not None:
+                instance["switch"]["outputs"] = sorted((topic, " ".join(specs))
+                                                       for topic, specs in instance["switch"]["outputs"].items())
         return links
 
     # ------------------------------------------------------------------ conversions

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 
 namespace two_arm {
 
@@ -36,8 +37,14 @@ inline constexpr double kMaxStep = 0.05;
 
 /// Which arm a ManipulatorControl instance is: both arms share one subsystem class and its pf
 /// classes, so each moveArm/pf takes the next number as it is constructed (the system
-/// constructs manipA/a before manipB/a). A second system in the same process counts on.
+/// constructs manipA/a before manipB/a). A second system in the same process counts on. A
+/// ROS node runs one instance and names it in EARL_SUBSYSTEM_PATH (its model path).
 inline const char* nextArm() noexcept {
+  if (const char* path = std::getenv("EARL_SUBSYSTEM_PATH")) {
+    for (const char* arm : kArms) {
+      if (std::strncmp(path, arm, std::strlen(arm)) == 0) return arm;
+    }
+  }
   static std::atomic<unsigned> count{0};
   return kArms[count.fetch_add(1) % 2];
 }

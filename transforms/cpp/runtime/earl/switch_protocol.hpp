@@ -4,18 +4,23 @@
 // every node has acknowledged it with a SwitchAck before it sends the next round.
 //
 //   close     senders close their variable links that the new configuration lacks and
-//             report how many values they sent on each (cumulative counts); the agents that
-//             leave see leaving() true;
+//             report how many values they sent on each (cumulative counts);
 //   drain     with the counts of the close: a receiver of a closed link acknowledges once that
 //             many values have arrived on it (the transport keeps each link's order) and, when
-//             its agent leaves, once it has read them all;
+//             its agent leaves, once it has read them all. A leaving agent sees leaving() true
+//             once they have arrived, not before: values still in flight at the close would
+//             otherwise come after its FSM reached a quiescent state that reads them no more,
+//             and the drain would wait for the timeout (in one process, earl::Switch closes the
+//             senders' gates before the agents see leaving(), so nothing is in flight then);
 //   stop      the control subsystem of a leaving agent stops at its first iteration boundary
 //             in a quiescent state (at once when forced: the switch timeout passed);
 //   park      every subsystem of a leaving agent stops; when forced, the values still queued
 //             for it, or still to arrive, are cleared and reported as undelivered, per link;
-//   activate  the joining agents are restarted or resumed;
-//   open      senders open the variable links of the new configuration; the coordinator then
-//             enters its new state.
+//   open      senders open the variable links of the new configuration (as earl::Switch
+//             does, before the joining agents run: what they send from their first iteration
+//             on goes out on them);
+//   activate  the joining agents are restarted or resumed; the coordinator then enters its
+//             new state.
 //
 // Every node acknowledges every round (at once for a round that does not concern it), so the
 // coordinator only counts acknowledgements. A transport delivers commands to SwitchMember::
@@ -35,7 +40,7 @@
 
 namespace earl {
 
-enum class SwitchRound : std::uint8_t { none = 0, close, drain, stop, park, activate, open };
+enum class SwitchRound : std::uint8_t { none = 0, close, drain, stop, park, open, activate };
 
 /// Coordinator -> every node.
 template <std::size_t Links>
@@ -147,6 +152,9 @@ class SwitchMember final : public SwitchControl {
     bool done = true;
     switch (c.round) {
       case SwitchRound::drain:
+        if (leaves() && slot_.phase() == AgentSlot::Phase::active && arrivedAll(false)) {
+          slot_.set(AgentSlot::Phase::leaving);
+        }
         done = arrivedAll(leaves());
         break;
       case SwitchRound::stop:
@@ -227,7 +235,6 @@ class SwitchMember final : public SwitchControl {
       open_[l] = false;
       if (receivers_[l].gate != nullptr) receivers_[l].gate->close();
     }
-    if (leaves()) slot_.set(AgentSlot::Phase::leaving);
   }
 
   /// Every closed link into this node has brought what was sent on it, and (``read``) the
@@ -385,10 +392,10 @@ class SwitchCoordinator final : public SwitchControl {
         return false;
       case SwitchRound::park:
         report();
-        send(SwitchRound::activate);
-        return false;
-      case SwitchRound::activate:
         send(SwitchRound::open);
+        return false;
+      case SwitchRound::open:
+        send(SwitchRound::activate);
         return false;
       default:
         finish();

@@ -1,0 +1,185 @@
+"""The checks of the two variable-structure samples' runs, whatever runs them (the C++ system
+executor, a ROS launch): ``samples/two_arm`` hands numbered commands over between two arms,
+``samples/harmoniser`` stops and resumes its guide agent around a fall. A switch line reads
+"switch A -> B in N cycles" (deterministic) or "in X.XXX ms" (on the clock)."""
+
+from __future__ import annotations
+
+import re
+import statistics
+
+SWITCH = re.compile(r"^switch (\w+) -> (\w+) in (\d+(?:\.\d+)?) (cycles|ms)$")
+
+
+def switches(lines: list[str]) -> list[tuple[str, str]]:
+    """The switches of a run, in order: (from, to)."""
+    return [(m.group(1), m.group(2)) for m in map(SWITCH.match, lines) if m]
+
+
+def latencies_ms(lines: list[str]) -> list[float]:
+    """The latency of every switch measured on the clock, in ms."""
+    return [float(m.group(3)) for m in map(SWITCH.match, lines) if m and m.group(4) == "ms"]
+
+
+def latency_summary(latencies: list[float]) -> str:
+    """'N switches, median X ms, worst Y ms'."""
+    if not latencies:
+        return "no switch"
+    return f"{len(latencies)} switches, median {statistics.median(latencies):.3f} ms, worst {max(latencies):.3f} ms"
+
+
+def undelivered(lines: list[str]) -> list[str]:
+    return [line for line in lines if "undelivered at switch" in line or "overflowed" in line]
+
+
+# ------------------------------------------------------------------ two_arm
+
+class TwoArm:
+    """task/a.cs sends 201 numbered commands and hands the job over between manipA/a and
+    manipB/a 20 times; each arm prints the seq of every command it takes, task/a the arm it
+    sent each one to."""
+
+    COMMANDS = 201  # 10 per configuration before each of the 20 hand-overs, then one more
+    SWITCHES = 20
+    TIMEOUT_MS = 100.0  # the switchTimeout of useA and useB
+
+    SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
+    TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
+    FINISHED = re.compile(r"^step \d+ task/a\.cs: with[AB] -> finished ")
+
+    @classmethod
+    def problems(cls, lines: list[str]) -> list[str]:
+        """What the run shows against the checks: every numbered command taken exactly once,
+        by the arm of the configuration it was sent in; no value undelivered at a switch and
+        no queue overflowed; 20 switches, each within the switchTimeout. Empty when it passes."""
+        sent: dict[int, str] = {}
+        found: list[str] = []
+        for match in filter(None, map(cls.SENT.match, lines)):
+            seq, arm = int(match.group(1)), match.group(2)
+            if seq in sent:
+                found.append(f"seq {seq} sent twice")
+            sent[seq] = arm
+        if sorted(sent) != list(range(1, cls.COMMANDS + 1)):
+            found.append(f"{len(sent)} numbered commands sent, not 1..{cls.COMMANDS}")
+        taken: dict[int, list[str]] = {}
+        for match in filter(None, map(cls.TOOK.match, lines)):
+            taken.setdefault(int(match.group(2)), []).append(match.group(1))
+        for seq, arm in sorted(sent.items()):
+            arms = taken.get(seq, [])
+            if arms != [arm]:
+                found.append(f"seq {seq} sent to {arm}, taken by {arms or 'none'}")
+        found += [f"taken but never sent: {seq}" for seq in sorted(set(taken) - set(sent))]
+        matches = [m for m in map(SWITCH.match, lines) if m]
+        if len(matches) != cls.SWITCHES:
+            found.append(f"{len(matches)} switches")
+        found += [f"{m.group(0)}: beyond {cls.TIMEOUT_MS} ms" for m in matches if float(m.group(3)) > cls.TIMEOUT_MS]
+        found += undelivered(lines)
+        return found[:12]
+
+    @classmethod
+    def finished(cls, lines: list[str]) -> bool:
+        """task/a has finished and the last command was taken."""
+        return any(cls.FINISHED.match(line) for line in lines) and any(
+            line.endswith(f"took seq {cls.COMMANDS}") for line in lines)
+
+
+# ------------------------------------------------------------------ harmoniser
+
+class Harmoniser:
+    """The scripted lidar sees the person fall once and get up again: tha/a switches guiding ->
+    fallResponse -> guiding; guide/a (reactivation resume) parks in waiting and goes on from
+    there, fallHelp/a starts from its initial state."""
+
+    SWITCHES = [("none", "guiding"), ("guiding", "fallResponse"), ("fallResponse", "guiding")]
+    TIMEOUT_MS = 500.0  # the switchTimeout of every configuration
+
+    LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+)$")
+    PARK = re.compile(r"^guide/a\.cs: park after command (\d+)$")
+    ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+)$")
+    STAND_BY = re.compile(r"^fallHelp/a\.cs: stand by after command (\d+)$")
+    GUIDE_STEP = re.compile(r"^step (\d+) guide/a\.cs: (\w+) -> (\w+) ")
+    GUIDE = re.compile(r"^(?:step \d+ )?guide/a\.cs: ")
+    GUIDE_START = re.compile(r"^step \d+ guide/a\.cs: start in ")  # its initial state entered
+    FALL_HELP = re.compile(r"^(?:step \d+ )?fallHelp/a\.cs: ")
+
+    @classmethod
+    def resumed_at(cls, trace: list[str]) -> tuple[int, int]:
+        """(the line of the switch to fallResponse, the first line of the guide agent back):
+        its first line after that switch, or the switch back to guiding if it comes first. The
+        agents of a ROS launch are processes of their own: a joining agent runs its first
+        iteration before the coordinator, a message later, prints the switch."""
+        fall = next(i for i, line in enumerate(trace) if SWITCH.match(line) and "-> fallResponse" in line)
+        back = next(i for i, line in enumerate(trace) if SWITCH.match(line) and "fallResponse -> guiding" in line)
+        first = next((i for i in range(fall + 1, back) if cls.GUIDE.match(trace[i])), back)
+        return fall, first
+
+    @classmethod
+    def assert_resumed(cls, trace: list[str]) -> None:
+        """Asserts that guide/a, resumed after the fall, goes on from its state and memory."""
+        fall, back = cls.resumed_at(trace)
+        before, after = trace[:fall], trace[back:]
+
+        # the waypoints carry on: 1, 2, … up to the fall, then the next one, never 1 again
+        waypoints_before = [int(m.group(1)) for m in map(cls.LEAD.match, before) if m]
+        waypoints_after = [int(m.group(1)) for m in map(cls.LEAD.match, after) if m]
+        assert waypoints_before == list(range(1, len(waypoints_before) + 1)) and len(waypoints_before) > 1
+        assert waypoints_after[0] == waypoints_before[-1] + 1
+        assert waypoints_after == list(range(waypoints_after[0], waypoints_after[0] + len(waypoints_after)))
+        # stopped while fallResponse holds: back only once fallHelp/a, which held it, has stopped
+        assert [line for line in trace[fall:back] if cls.ASSIST.match(line)]
+        assert not [line for line in after if cls.FALL_HELP.match(line)]
+
+        # its FSM: leaving() took it from leading to waiting, and it resumes in waiting at its next
+        # step. Over a transport the leaving agent learns that it may stop (its links drained)
+        # a few iterations later: the ones it ran in waiting (each a park) count as its steps.
+        guide_steps = [(int(m.group(1)), m.group(2), m.group(3)) for m in map(cls.GUIDE_STEP.match, trace) if m]
+        stopped = next((s for s in guide_steps if s[1:] == ("leading", "waiting")), None)
+        assert stopped is not None
+        at = next(i for i, line in enumerate(trace) if cls.GUIDE_STEP.match(line) and
+                  (int(cls.GUIDE_STEP.match(line).group(1)), "leading", "waiting") == stopped)  # type: ignore[union-attr]
+        parked = [int(m.group(1)) for m in map(cls.PARK.match, trace[at:fall]) if m]
+        assert parked == list(range(stopped[0] + 1, stopped[0] + 1 + len(parked)))
+        resumed = [s for s in guide_steps if s[0] > stopped[0]]
+        assert resumed[0] == (stopped[0] + len(parked) + 1, "waiting", "leading")
+        assert not any(cls.GUIDE_START.match(line) for line in after)
+
+        # its memory: the resumed park (in waiting, where it stopped) numbers its command after the
+        # ones sent before the fall
+        commands_before = waypoints_before[-1] + 1 + len(parked)  # the first park, one per waypoint, the parks
+        (first_park_after, *_) = [int(m.group(1)) for m in map(cls.PARK.match, after) if m]
+        assert first_park_after == commands_before + 1
+
+    @classmethod
+    def problems(cls, lines: list[str]) -> list[str]:
+        """What a run shows against every check of the sample: the three switches, each within
+        the switchTimeout, nothing undelivered, fallHelp/a from its first step, guide/a resumed
+        from its state and memory. Empty when it passes."""
+        found: list[str] = []
+        if switches(lines) != cls.SWITCHES:
+            found.append(f"switches {switches(lines)}, not {cls.SWITCHES}")
+        found += [f"{m.group(0)}: beyond {cls.TIMEOUT_MS} ms" for m in map(SWITCH.match, lines)
+                  if m and m.group(4) == "ms" and float(m.group(3)) > cls.TIMEOUT_MS]
+        found += undelivered(lines)
+        # fallHelp/a starts from its initial state: it stands by with its first command, and
+        # assists (as long as the person lies: none when the switch took that long) from step 1
+        stand_by = [int(m.group(1)) for m in map(cls.STAND_BY.match, lines) if m]
+        steps = cls.assist_steps(lines)
+        if stand_by[:1] != [1] or steps != list(range(1, len(steps) + 1)):
+            found.append(f"fallHelp/a did not start from its initial state: stood by after {stand_by[:2]}, "
+                         f"assisted in steps {steps[:5]}")
+        if not found:
+            try:
+                cls.assert_resumed(lines)
+            except (AssertionError, StopIteration, ValueError, IndexError) as error:
+                found.append(f"guide/a did not go on from its state and memory: {error or type(error).__name__}")
+        return found
+
+    @classmethod
+    def first_waypoint_back(cls, trace: list[str]) -> int:
+        """The first waypoint guide/a leads to once back."""
+        _, back = cls.resumed_at(trace)
+        return int(next(m for m in map(cls.LEAD.match, trace[back:]) if m).group(1))
+
+    @classmethod
+    def assist_steps(cls, trace: list[str]) -> list[int]:
+        return [int(m.group(1)) for m in map(cls.ASSIST.match, trace) if m]
