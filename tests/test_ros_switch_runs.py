@@ -243,23 +243,14 @@ def back_in_guiding(lines: Lines) -> bool:
 
 def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, str]],
                         timeouts: dict[str, float]) -> list[str]:
+    """The sample's checks (``Harmoniser.problems``), the switchTimeouts the generated launch
+    files give, and the C++ run's switch sequence."""
     found = undelivered(lines) + beyond_timeout(lines, timeouts)
     if not reached:
         return [*found, f"the run did not come back to guiding: switches {switches(lines)}"]
     if switches(lines) != expected:
         found.append(f"switches {switches(lines)} are not the C++ run's")
-    try:
-        Harmoniser.assert_resumed(lines)
-    except AssertionError as error:
-        found.append(f"guide/a did not resume: {error!r}")
-    # from its initial state (how many steps it assists depends on how long the switch to
-    # fallResponse took of the 30 scans the person is down)
-    steps = Harmoniser.assist_steps(lines)
-    if steps != list(range(1, len(steps) + 1)) or not steps:
-        found.append(f"fallHelp/a assist steps {steps}")
-    if "step 1 fallHelp/a.cs: waiting -> helping (waiting,helping/t)" not in lines:
-        found.append("fallHelp/a did not start from its initial state")
-    return found
+    return found + [problem for problem in Harmoniser.problems(lines) if problem not in found]
 
 
 @launched
