@@ -24,6 +24,8 @@ from earl_m2t.gen.names import cpp_comment
 from earl_m2t.gen.views.cpp import CppView
 from earl_m2t.gen.views.fabric import FabricTarget, definition_spec, instance_configuration
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
+from earl_m2t.gen.views.orocos_switch import definition_switch, instance_switch, link_port, system_switch
+from earl_m2t.gen.views.switch_wiring import switch_wiring
 from earl_m2t.model.elements import EarlModel, Subsystem, System
 
 Data = dict[str, Any]
@@ -48,15 +50,18 @@ class OrocosTarget:
     package_suffix: str  # <model>_orocos: the CMake project, the deployer's import() package
     std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message (the ROS target's table)
     fabric: FabricTarget
+    latest_queue: int = 64  # [switch]: the buffer of a variable link into a latest-value Input Buffer
+    control_queue: int = 16  # [switch]: the buffer of a command or acknowledgement connection
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any], std_msgs: dict[str, str]) -> OrocosTarget:
-        activity, connection = spec.get("activity", {}), spec.get("connection", {})
+        activity, connection, switch = spec.get("activity", {}), spec.get("connection", {}), spec.get("switch", {})
         return cls(period=float(activity.get("period", 0.01)), priority=int(activity.get("priority", 0)),
                    scheduler=str(activity.get("scheduler", "ORO_SCHED_OTHER")),
                    policy=str(connection.get("policy", "data")),
                    package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs,
-                   fabric=FabricTarget.from_spec(spec["fabric"]))
+                   fabric=FabricTarget.from_spec(spec["fabric"]),
+                   latest_queue=int(switch.get("latest_queue", 64)), control_queue=int(switch.get("control_queue", 16)))
 
 
 @dataclass
@@ -119,6 +124,7 @@ class _Builder:
         self.msg_names = {m["key"]: m["name"] for m in msgs.messages}
         self.components: dict[str, str] = {}  # component name in lower case -> what it is, for D004
         self.port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (master component, port)
+        self.wiring = switch_wiring(model)  # None without configurations
 
     def build(self) -> OrocosView:
         definitions = self._definitions()
@@ -126,6 +132,8 @@ class _Builder:
         placed = self._instances(by_block)
         instances = [instance for instance, _ in placed]
         links = self._links()
+        for instance in instances:
+            instance["switch"] = instance_switch(self.wiring, instance["trace"], links, instance["name"])
         self._fabric_configurations(placed, links)
         self._connections(instances, links)
         notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
@@ -150,8 +158,14 @@ class _Builder:
         first: dict[str, Subsystem] = {}
         for sub in self.model.subsystems:
             first.setdefault(sub.block_id, sub)
-        return [_definition(self.model, first[definition["block_id"]], definition, self.model_ns, self._ros_message,
-                            self.target) for definition in self.cpp.subsystems]
+        blocks = {sub.path: sub.block_id for sub in self.model.subsystems}
+        entries = []
+        for definition in self.cpp.subsystems:
+            entry = _definition(self.model, first[definition["block_id"]], definition, self.model_ns,
+                                self._ros_message, self.target)
+            entry["switch"] = definition_switch(self.wiring, self.cpp.system, definition["block_id"], blocks)
+            entries.append(entry)
+        return entries
 
     def _component(self, name: str, what: str) -> str:
         """A component name, refused (rule D004) when it equals another one but for case."""
@@ -196,9 +210,17 @@ class _Builder:
             source, destination = port_of[link.source], port_of[link.target]
             target_buffer = model.buffer(link.target)
             queue = target_buffer.queue_size if target_buffer is not None and target_buffer.receive == "queue" else 0
-            links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
-                          "to": f"{destination[0]}.{destination[1]}", "queue": queue,
-                          "policy": f"queue{queue}" if queue else "links", "trace": link.path})
+            entry = {"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
+                     "to": f"{destination[0]}.{destination[1]}", "queue": queue,
+                     "policy": f"queue{queue}" if queue else "links", "trace": link.path}
+            variable = self.wiring.link_index(link.path) if self.wiring is not None else -1
+            if variable >= 0:  # its own ports at both ends, a buffer connection (orocos_switch)
+                queue = queue or self.target.latest_queue
+                entry.update(variable=variable, source_port=source[1], target_port=destination[1],
+                             queue=queue, policy=f"queue{queue}",
+                             **{"from": f"{source[0]}.{link_port(source[1], link)}",
+                                "to": f"{destination[0]}.{link_port(destination[1], link)}"})
+            links.append(entry)
         return links
 
     def _fabric_configurations(self, placed: list[tuple[Data, Data]], links: list[Data]) -> None:
@@ -206,6 +228,8 @@ class _Builder:
         channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
         alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i, _ in placed for b in i["buffers"]}
         for connection in links:
+            if connection.get("variable", -1) >= 0:
+                continue  # its own ports: fabric_switch_buffers
             if connection["to"] in channels:
                 raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
                                "this one has several links")
@@ -233,7 +257,9 @@ class _Builder:
         project = field_name(self.model.name or self.system.name or "model") + self.target.package_suffix
         return {"model": self.cpp.system["model"], "ns": self.model_ns, "project": project, "libraries": libraries,
                 "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
-                "queues": sorted({link["queue"] for link in links if link["queue"]}), "trace": self.cpp.system["trace"]}
+                "queues": sorted({link["queue"] for link in links if link["queue"]}), "trace": self.cpp.system["trace"],
+                "switch": system_switch(self.wiring, {i["trace"]: i["name"] for i in instances},
+                                        self.target.control_queue)}
 
 
 def _pf_instance(master: str, pf: Data, name: str) -> Data:
