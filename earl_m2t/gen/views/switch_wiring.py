@@ -54,7 +54,7 @@ def switch_wiring(model: EarlModel) -> SwitchWiring | None:
     links = tuple(by_path[path] for path in link_paths if path in by_path)
     coordinator = variability.coordinator(model)
     subsystem_of_buffer = {buf.path: sub.path for sub in model.subsystems for buf in sub.buffers}
-    nodes = []
+    nodes: list[NodeWiring] = []
     for agent in system.agents:
         agent_index = agent_paths.index(agent.path) if agent.path in agent_paths else -1
         for sub in agent.subsystems:
