@@ -13,9 +13,10 @@
 //             in a quiescent state (at once when forced: the switch timeout passed);
 //   park      every subsystem of a leaving agent stops; when forced, the values still queued
 //             for it, or still to arrive, are cleared and reported as undelivered, per link;
-//   activate  the joining agents are restarted or resumed;
-//   open      senders open the variable links of the new configuration; the coordinator then
-//             enters its new state.
+//   activate  senders open the variable links of the new configuration, then the joining
+//             agents are restarted or resumed (so that nothing a joining agent sends at its
+//             first iterations meets a closed link and is dropped, as with earl::Switch);
+//   open      every node has opened them; the coordinator then enters its new state.
 //
 // Every node acknowledges every round (at once for a round that does not concern it), so the
 // coordinator only counts acknowledgements. A transport delivers commands to SwitchMember::
@@ -156,6 +157,7 @@ class SwitchMember final : public SwitchControl {
         park(c.forced);
         break;
       case SwitchRound::activate:
+        openLinks();  // before the agent's first iteration: what it sends goes out
         activate();
         break;
       case SwitchRound::open:
