@@ -24,7 +24,13 @@ from earl_m2t.gen.names import cpp_comment
 from earl_m2t.gen.views.cpp import CppView
 from earl_m2t.gen.views.fabric import FabricTarget, definition_spec, instance_configuration
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
-from earl_m2t.gen.views.orocos_switch import definition_switch, instance_switch, link_port, system_switch
+from earl_m2t.gen.views.orocos_switch import (
+    definition_switch,
+    fabric_variable_buffers,
+    instance_switch,
+    link_port,
+    system_switch,
+)
 from earl_m2t.gen.views.switch_wiring import switch_wiring
 from earl_m2t.model.elements import EarlModel, Subsystem, System
 
@@ -52,6 +58,7 @@ class OrocosTarget:
     fabric: FabricTarget
     latest_queue: int = 64  # [switch]: the buffer of a variable link into a latest-value Input Buffer
     control_queue: int = 16  # [switch]: the buffer of a command or acknowledgement connection
+    fabric_switch_note: str = ""  # [switch]: gen's note for a model with configurations
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any], std_msgs: dict[str, str]) -> OrocosTarget:
@@ -61,7 +68,8 @@ class OrocosTarget:
                    policy=str(connection.get("policy", "data")),
                    package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs,
                    fabric=FabricTarget.from_spec(spec["fabric"]),
-                   latest_queue=int(switch.get("latest_queue", 64)), control_queue=int(switch.get("control_queue", 16)))
+                   latest_queue=int(switch.get("latest_queue", 64)), control_queue=int(switch.get("control_queue", 16)),
+                   fabric_switch_note=str(switch.get("fabric_note", "")))
 
 
 @dataclass
@@ -137,6 +145,8 @@ class _Builder:
         self._fabric_configurations(placed, links)
         self._connections(instances, links)
         notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
+        if self.wiring is not None:
+            notes.append(self.target.fabric_switch_note)
         return OrocosView(system=self._system(definitions, instances, links), definitions=definitions,
                           instances=instances, notes=notes)
 
@@ -162,7 +172,7 @@ class _Builder:
         entries = []
         for definition in self.cpp.subsystems:
             entry = _definition(self.model, first[definition["block_id"]], definition, self.model_ns,
-                                self._ros_message, self.target)
+                                self._ros_message, self.target, self.wiring is not None)
             entry["switch"] = definition_switch(self.wiring, self.cpp.system, definition["block_id"], blocks)
             entries.append(entry)
         return entries
@@ -226,10 +236,14 @@ class _Builder:
     def _fabric_configurations(self, placed: list[tuple[Data, Data]], links: list[Data]) -> None:
         """FABRIC's run-time configuration of every instance whose definition FABRIC can express."""
         channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
+        variable: dict[str, list[str]] = {}  # the same, of the variable links (several per input port)
         alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i, _ in placed for b in i["buffers"]}
         for connection in links:
             if connection.get("variable", -1) >= 0:
-                continue  # its own ports: fabric_switch_buffers
+                source = f"{connection['from'].partition('.')[0]}.{connection['source_port']}"
+                target = f"{connection['to'].partition('.')[0]}.{connection['target_port']}"
+                variable.setdefault(target, []).append(alias_of[source])
+                continue
             if connection["to"] in channels:
                 raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
                                "this one has several links")
@@ -237,6 +251,8 @@ class _Builder:
         for instance, definition in placed:
             instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
                 instance, definition["fabric"], definition["pfs"], channels, self.target.fabric)
+            if instance["fabric"] is not None and variable:
+                fabric_variable_buffers(instance, channels, variable)
 
     @staticmethod
     def _connections(instances: list[Data], links: list[Data]) -> None:
@@ -271,8 +287,32 @@ def _pf_instance(master: str, pf: Data, name: str) -> Data:
     return {"name": name, "role": pf["role"], "type": pf["type"], "connections": connections}
 
 
+def _pf_ports(pf: Data, where: str, master_ports: _Ports, sync_memory: bool) -> list[Data]:
+    """The ports of a pf component and their peers on the master. ``sync_memory`` (a model with
+    configurations, whose agents restart or resume): a memory the pf writes (mo) also comes
+    from the master before each run (kind ms), so that every pf of the subsystem and a
+    reactivation see the master's value."""
+    pf_ports = _Ports(f"{where} pf {pf['cls']}")
+    entries: list[Data] = []
+    for accessor in pf["accessors"]:
+        kind = accessor["kind"]
+        if kind == "m":
+            kind = "mo" if accessor["mutable"] else "mi"
+        for name, at in _elements(accessor["name"], accessor["replicated"], accessor["count"]):
+            access = f"{accessor['member']}{at}"
+            kinds = [kind, "ms"] if kind == "mo" and sync_memory else [kind]
+            for k in kinds:
+                port = pf_ports.take(f"{name}_in" if k == "ms" else name)
+                entries.append({
+                    "port": port, "master_port": master_ports.take(f"{pf['cls']}_{port}"), "kind": k,
+                    "type": accessor["type"], "to_pf": k in ("ib", "mi", "ms"),
+                    "master_access": f"data.{access}", "pf_access": f"data_.{access}",
+                })
+    return entries
+
+
 def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: str,
-                ros_message: Callable[[str, str], str], target: OrocosTarget) -> Data:
+                ros_message: Callable[[str, str], str], target: OrocosTarget, sync_memory: bool = False) -> Data:
     """A subsystem definition: its master component, its pf components, its FABRIC model."""
     ns = definition["ns"]
     where = sub.path
@@ -297,20 +337,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
     run_index: dict[str, int] = {}
     for n, (pf, model_pf) in enumerate(zip(functions, sub.functions)):
         run_index[pf["run"]] = n
-        pf_ports = _Ports(f"{where} pf {pf['cls']}")
-        pf_entries: list[Data] = []
-        for accessor in pf["accessors"]:
-            kind = accessor["kind"]
-            if kind == "m":
-                kind = "mo" if accessor["mutable"] else "mi"
-            for name, at in _elements(accessor["name"], accessor["replicated"], accessor["count"]):
-                port = pf_ports.take(name)
-                access = f"{accessor['member']}{at}"
-                pf_entries.append({
-                    "port": port, "master_port": master_ports.take(f"{pf['cls']}_{port}"), "kind": kind,
-                    "type": accessor["type"], "to_pf": kind in ("ib", "mi"),
-                    "master_access": f"data.{access}", "pf_access": f"data_.{access}",
-                })
+        pf_entries = _pf_ports(pf, where, master_ports, sync_memory)
         pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
                     "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
                     "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",

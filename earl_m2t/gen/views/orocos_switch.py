@@ -37,7 +37,8 @@ def link_port(port: str, link: Link) -> str:
     return f"{port}__{cpp_identifier(link.name or link.path)}"
 
 
-def definition_switch(wiring: SwitchWiring | None, cpp_system: Data, block_id: str, blocks: dict[str, str]) -> Data | None:
+def definition_switch(wiring: SwitchWiring | None, cpp_system: Data, block_id: str,
+                      blocks: dict[str, str]) -> Data | None:
     """What the component library of a definition needs: the generated System's header, the
     node count, whether the definition holds the coordinator. ``blocks``: instance path -> its
     definition's block id."""
@@ -91,3 +92,19 @@ def system_switch(wiring: SwitchWiring | None, masters: dict[str, str], queue: i
         return None
     return {"control": control_connections(wiring, masters), "queue": queue,
             "masters": [masters[n.path] for n in wiring.nodes]}
+
+
+def fabric_variable_buffers(instance: Data, fixed: dict[str, str], variable: dict[str, list[str]]) -> None:
+    """The superset in FABRIC's run-time configuration of ``instance``: an ``io_buffer`` per
+    variable link into one of its Input Buffers (the channel its sender writes), beside the one
+    of its links of every configuration (``fixed``: "<master>.<port>" -> channel). FABRIC's
+    own deployer connects them all; it has no switch to open and close them."""
+    port_of = {b["alias"]: b["port"] for b in instance["buffers"] if "alias" in b}
+    io: list[Data] = []
+    for entry in instance["fabric"]["io"]:
+        key = f"{instance['name']}.{port_of[entry['alias']]}"
+        channels = variable.get(key, [])
+        if key in fixed or not channels:
+            io.append(entry)
+        io += [{"alias": entry["alias"], "name": channel} for channel in channels]
+    instance["fabric"]["io"] = io
