@@ -4,15 +4,13 @@
 // every node has acknowledged it with a SwitchAck before it sends the next round.
 //
 //   close     senders close their variable links that the new configuration lacks and
-//             report how many values they sent on each (cumulative counts);
+//             report how many values they sent on each (cumulative counts); the agents that
+//             leave see leaving() true;
 //   drain     with the counts of the close: a receiver of a closed link acknowledges once that
 //             many values have arrived on it (the transport keeps each link's order) and, when
 //             its agent leaves, once it has read them all;
-//   stop      the agents that leave see leaving() true (only now: every value sent to them has
-//             arrived and been read in the states they were in, so none reaches a quiescent
-//             state that does not read it); the control subsystem of a leaving agent stops at
-//             its first iteration boundary in a quiescent state (at once when forced: the
-//             switch timeout passed);
+//   stop      the control subsystem of a leaving agent stops at its first iteration boundary
+//             in a quiescent state (at once when forced: the switch timeout passed);
 //   park      every subsystem of a leaving agent stops; when forced, the values still queued
 //             for it, or still to arrive, are cleared and reported as undelivered, per link;
 //   activate  senders open the variable links of the new configuration, then the joining
@@ -147,9 +145,6 @@ class SwitchMember final : public SwitchControl {
     if (c.round == SwitchRound::none || (c.seq == ackedSeq_ && c.round == ackedRound_)) return false;
     if (c.seq != seq_) begin(c);
     if (c.round >= SwitchRound::drain) expected_ = c.counts;
-    if (c.round == SwitchRound::stop && leaves() && slot_.phase() == AgentSlot::Phase::active) {
-      slot_.set(AgentSlot::Phase::leaving);
-    }
     bool done = true;
     switch (c.round) {
       case SwitchRound::drain:
@@ -234,6 +229,7 @@ class SwitchMember final : public SwitchControl {
       open_[l] = false;
       if (receivers_[l].gate != nullptr) receivers_[l].gate->close();
     }
+    if (leaves()) slot_.set(AgentSlot::Phase::leaving);
   }
 
   /// Every closed link into this node has brought what was sent on it, and (``read``) the
