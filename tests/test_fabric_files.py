@@ -209,3 +209,24 @@ def test_terms_that_are_not_predicates_become_fabric_predicates(tmp_path: Path) 
     assert sd.predicates == ["newData_command_ib", "command_ib_msg_on"]
     assert [b.stop_cond for b in sd.behaviors] == ["newData_command_ib and not command_ib_msg_on"]
     assert fabric.compile_conditions(sd, tmp_path).returncode == 0
+
+
+def test_a_model_with_configurations_carries_every_variable_link_as_an_io_buffer(tmp_path: Path) -> None:
+    """two_arm: task/a.cs's manipulatorState is linked from both arms, one link per configuration;
+    its FABRIC configuration reads both channels (the superset: FABRIC's own runtime cannot
+    switch them), and FABRIC's parser and the deployer's rules accept every file."""
+    model = load(ROOT / "samples" / "two_arm" / "two_arm.uml").model
+    for name, content in render(model, "orocos").generated.items():
+        if name.startswith("fabric/"):
+            (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+            (tmp_path / name).write_bytes(content)
+    for config in sorted((tmp_path / "fabric").glob("*/config/*.xml")):
+        spec = fabric.parse_spec(config.parent.parent / "spec" / "subsystem.xml")
+        assert fabric.configuration_problems(config, spec) == [], config
+    task = ElementTree.parse(tmp_path / "fabric" / "task_a_cs" / "config" / "task_a_cs.xml").getroot()
+    assert sorted((b.get("alias"), b.get("name")) for b in task.iter("io_buffer")) == [
+        ("manipulatorCommand", "task_a_cs_manipulatorCommand"),
+        ("manipulatorState", "manipA_a_cs_manipulatorState"), ("manipulatorState", "manipB_a_cs_manipulatorState")]
+    arm_b = ElementTree.parse(tmp_path / "fabric" / "manipA_a_cs" / "config" / "manipB_a_cs.xml").getroot()
+    assert {b.get("alias"): b.get("name") for b in arm_b.iter("io_buffer")}["manipulatorCommand"] == (
+        "task_a_cs_manipulatorCommand")

@@ -70,3 +70,18 @@ def test_a_renderer_reads_only_the_views_it_declares() -> None:
     assert views.get(declared) == 1
     with pytest.raises(LookupError):
         views.get(undeclared)
+
+
+def test_a_target_declared_without_variable_structure_refuses_a_model_with_configurations() -> None:
+    """``variable_structure = false`` in transforms/targets.toml (for a target that cannot run
+    a switch yet): gen refuses such a model in one line rather than generate one that never
+    switches. Every target switches today, so the entry is made here."""
+    from dataclasses import replace
+
+    from earl_m2t.gen.errors import GenError
+    from earl_m2t.gen.generate import _render
+
+    model = load(Path(__file__).parent / "fixtures" / "variability" / "handover.sysml").model
+    refusing = replace(declared_target("cpp"), variable_structure=False)
+    with pytest.raises(GenError, match=r"--target cpp does not switch configurations yet \(the model has useA, useB\)"):
+        _render(refusing, model, None, True)

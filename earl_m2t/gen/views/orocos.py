@@ -24,6 +24,14 @@ from earl_m2t.gen.names import cpp_comment
 from earl_m2t.gen.views.cpp import CppView
 from earl_m2t.gen.views.fabric import FabricTarget, definition_spec, instance_configuration
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, field_name, ros_type
+from earl_m2t.gen.views.orocos_switch import (
+    definition_switch,
+    fabric_variable_buffers,
+    instance_switch,
+    link_port,
+    system_switch,
+)
+from earl_m2t.gen.views.switch_wiring import switch_wiring
 from earl_m2t.model.elements import EarlModel, Subsystem, System
 
 Data = dict[str, Any]
@@ -48,15 +56,20 @@ class OrocosTarget:
     package_suffix: str  # <model>_orocos: the CMake project, the deployer's import() package
     std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message (the ROS target's table)
     fabric: FabricTarget
+    latest_queue: int = 64  # [switch]: the buffer of a variable link into a latest-value Input Buffer
+    control_queue: int = 16  # [switch]: the buffer of a command or acknowledgement connection
+    fabric_switch_note: str = ""  # [switch]: gen's note for a model with configurations
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any], std_msgs: dict[str, str]) -> OrocosTarget:
-        activity, connection = spec.get("activity", {}), spec.get("connection", {})
+        activity, connection, switch = spec.get("activity", {}), spec.get("connection", {}), spec.get("switch", {})
         return cls(period=float(activity.get("period", 0.01)), priority=int(activity.get("priority", 0)),
                    scheduler=str(activity.get("scheduler", "ORO_SCHED_OTHER")),
                    policy=str(connection.get("policy", "data")),
                    package_suffix=str(spec.get("package_suffix", "_orocos")), std_msgs=std_msgs,
-                   fabric=FabricTarget.from_spec(spec["fabric"]))
+                   fabric=FabricTarget.from_spec(spec["fabric"]),
+                   latest_queue=int(switch.get("latest_queue", 64)), control_queue=int(switch.get("control_queue", 16)),
+                   fabric_switch_note=str(switch.get("fabric_note", "")))
 
 
 @dataclass
@@ -119,6 +132,7 @@ class _Builder:
         self.msg_names = {m["key"]: m["name"] for m in msgs.messages}
         self.components: dict[str, str] = {}  # component name in lower case -> what it is, for D004
         self.port_of: dict[str, tuple[str, str]] = {}  # buffer path -> (master component, port)
+        self.wiring = switch_wiring(model)  # None without configurations
 
     def build(self) -> OrocosView:
         definitions = self._definitions()
@@ -126,9 +140,13 @@ class _Builder:
         placed = self._instances(by_block)
         instances = [instance for instance, _ in placed]
         links = self._links()
+        for instance in instances:
+            instance["switch"] = instance_switch(self.wiring, instance["trace"], links, instance["name"])
         self._fabric_configurations(placed, links)
         self._connections(instances, links)
         notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
+        if self.wiring is not None:
+            notes.append(self.target.fabric_switch_note)
         return OrocosView(system=self._system(definitions, instances, links), definitions=definitions,
                           instances=instances, notes=notes)
 
@@ -150,8 +168,14 @@ class _Builder:
         first: dict[str, Subsystem] = {}
         for sub in self.model.subsystems:
             first.setdefault(sub.block_id, sub)
-        return [_definition(self.model, first[definition["block_id"]], definition, self.model_ns, self._ros_message,
-                            self.target) for definition in self.cpp.subsystems]
+        blocks = {sub.path: sub.block_id for sub in self.model.subsystems}
+        entries = []
+        for definition in self.cpp.subsystems:
+            entry = _definition(self.model, first[definition["block_id"]], definition, self.model_ns,
+                                self._ros_message, self.target, self.wiring is not None)
+            entry["switch"] = definition_switch(self.wiring, self.cpp.system, definition["block_id"], blocks)
+            entries.append(entry)
+        return entries
 
     def _component(self, name: str, what: str) -> str:
         """A component name, refused (rule D004) when it equals another one but for case."""
@@ -196,16 +220,30 @@ class _Builder:
             source, destination = port_of[link.source], port_of[link.target]
             target_buffer = model.buffer(link.target)
             queue = target_buffer.queue_size if target_buffer is not None and target_buffer.receive == "queue" else 0
-            links.append({"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
-                          "to": f"{destination[0]}.{destination[1]}", "queue": queue,
-                          "policy": f"queue{queue}" if queue else "links", "trace": link.path})
+            entry = {"name": xml_text(link.name), "from": f"{source[0]}.{source[1]}",
+                     "to": f"{destination[0]}.{destination[1]}", "queue": queue,
+                     "policy": f"queue{queue}" if queue else "links", "trace": link.path}
+            variable = self.wiring.link_index(link.path) if self.wiring is not None else -1
+            if variable >= 0:  # its own ports at both ends, a buffer connection (orocos_switch)
+                queue = queue or self.target.latest_queue
+                entry.update(variable=variable, source_port=source[1], target_port=destination[1],
+                             queue=queue, policy=f"queue{queue}",
+                             **{"from": f"{source[0]}.{link_port(source[1], link)}",
+                                "to": f"{destination[0]}.{link_port(destination[1], link)}"})
+            links.append(entry)
         return links
 
     def _fabric_configurations(self, placed: list[tuple[Data, Data]], links: list[Data]) -> None:
         """FABRIC's run-time configuration of every instance whose definition FABRIC can express."""
         channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
+        variable: dict[str, list[str]] = {}  # the same, of the variable links (several per input port)
         alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i, _ in placed for b in i["buffers"]}
         for connection in links:
+            if connection.get("variable", -1) >= 0:
+                source = f"{connection['from'].partition('.')[0]}.{connection['source_port']}"
+                target = f"{connection['to'].partition('.')[0]}.{connection['target_port']}"
+                variable.setdefault(target, []).append(alias_of[source])
+                continue
             if connection["to"] in channels:
                 raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
                                "this one has several links")
@@ -213,6 +251,8 @@ class _Builder:
         for instance, definition in placed:
             instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
                 instance, definition["fabric"], definition["pfs"], channels, self.target.fabric)
+            if instance["fabric"] is not None and variable:
+                fabric_variable_buffers(instance, channels, variable)
 
     @staticmethod
     def _connections(instances: list[Data], links: list[Data]) -> None:
@@ -233,7 +273,9 @@ class _Builder:
         project = field_name(self.model.name or self.system.name or "model") + self.target.package_suffix
         return {"model": self.cpp.system["model"], "ns": self.model_ns, "project": project, "libraries": libraries,
                 "instances": instances, "links": links, "includes": ["runtime", "generated/include", "user"],
-                "queues": sorted({link["queue"] for link in links if link["queue"]}), "trace": self.cpp.system["trace"]}
+                "queues": sorted({link["queue"] for link in links if link["queue"]}), "trace": self.cpp.system["trace"],
+                "switch": system_switch(self.wiring, {i["trace"]: i["name"] for i in instances},
+                                        self.target.control_queue)}
 
 
 def _pf_instance(master: str, pf: Data, name: str) -> Data:
@@ -245,8 +287,32 @@ def _pf_instance(master: str, pf: Data, name: str) -> Data:
     return {"name": name, "role": pf["role"], "type": pf["type"], "connections": connections}
 
 
+def _pf_ports(pf: Data, where: str, master_ports: _Ports, sync_memory: bool) -> list[Data]:
+    """The ports of a pf component and their peers on the master. ``sync_memory`` (a model with
+    configurations, whose agents restart or resume): a memory the pf writes (mo) also comes
+    from the master before each run (kind ms), so that every pf of the subsystem and a
+    reactivation see the master's value."""
+    pf_ports = _Ports(f"{where} pf {pf['cls']}")
+    entries: list[Data] = []
+    for accessor in pf["accessors"]:
+        kind = accessor["kind"]
+        if kind == "m":
+            kind = "mo" if accessor["mutable"] else "mi"
+        for name, at in _elements(accessor["name"], accessor["replicated"], accessor["count"]):
+            access = f"{accessor['member']}{at}"
+            kinds = [kind, "ms"] if kind == "mo" and sync_memory else [kind]
+            for k in kinds:
+                port = pf_ports.take(f"{name}_in" if k == "ms" else name)
+                entries.append({
+                    "port": port, "master_port": master_ports.take(f"{pf['cls']}_{port}"), "kind": k,
+                    "type": accessor["type"], "to_pf": k in ("ib", "mi", "ms"),
+                    "master_access": f"data.{access}", "pf_access": f"data_.{access}",
+                })
+    return entries
+
+
 def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: str,
-                ros_message: Callable[[str, str], str], target: OrocosTarget) -> Data:
+                ros_message: Callable[[str, str], str], target: OrocosTarget, sync_memory: bool = False) -> Data:
     """A subsystem definition: its master component, its pf components, its FABRIC model."""
     ns = definition["ns"]
     where = sub.path
@@ -271,20 +337,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
     run_index: dict[str, int] = {}
     for n, (pf, model_pf) in enumerate(zip(functions, sub.functions)):
         run_index[pf["run"]] = n
-        pf_ports = _Ports(f"{where} pf {pf['cls']}")
-        pf_entries: list[Data] = []
-        for accessor in pf["accessors"]:
-            kind = accessor["kind"]
-            if kind == "m":
-                kind = "mo" if accessor["mutable"] else "mi"
-            for name, at in _elements(accessor["name"], accessor["replicated"], accessor["count"]):
-                port = pf_ports.take(name)
-                access = f"{accessor['member']}{at}"
-                pf_entries.append({
-                    "port": port, "master_port": master_ports.take(f"{pf['cls']}_{port}"), "kind": kind,
-                    "type": accessor["type"], "to_pf": kind in ("ib", "mi"),
-                    "master_access": f"data.{access}", "pf_access": f"data_.{access}",
-                })
+        pf_entries = _pf_ports(pf, where, master_ports, sync_memory)
         pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
                     "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
                     "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",

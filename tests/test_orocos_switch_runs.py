@@ -1,0 +1,234 @@
+"""The variable-structure samples on the Orocos target: ``samples/two_arm`` and
+``samples/harmoniser`` generated with ``--target orocos`` over their shipped user code, built
+against a real RTT 2.9 (tests/support/orocos.py) with warnings as errors, and deployed by OCL's
+deployer (``deployer -s system.ops``) with every periodic master at 2 ms, one busy process per
+CPU. The switch runs between components as earl/switch_protocol.hpp's rounds over RTT ports.
+
+* two_arm, 50 deployments: every numbered command is taken exactly once, by the arm of the
+  configuration it was sent in; no value undelivered at a switch, no overflow, no error in the
+  output or OCL's log; the 20 switches of the C++ deterministic run, in its order, each within
+  the switchTimeout; OCL connects exactly what the scripts say: the model's links (a variable
+  link on its own ports) and, per master other than the coordinator, its command and
+  acknowledgement connections;
+* harmoniser, 50 deployments: the C++ run's switches; guide/a, resumed after the fall, goes on
+  from its state and memory, fallHelp/a starts from its initial state; the same sample with
+  guide/a restarted fails that check;
+* sensitivity control: a build whose switch skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails
+  the two_arm checks in at least one of 50 deployments.
+
+Each deployment is stopped as soon as its last awaited line is printed. With ``-s`` the median
+and worst switch latency of each sample's campaign are printed.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from tests.support import orocos
+from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
+from tests.support.load import cpu_hogs, run_until
+from tests.support.switch_checks_orocos import (
+    HARMONISER_SWITCHES,
+    LEAD,
+    assert_fall_help_starts_initially,
+    assert_resumed,
+    harmoniser_finished,
+    latencies_ms,
+    resume_index,
+    switches,
+    two_arm_finished,
+    two_arm_problems,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
+HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
+# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
+GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
+                 "            part cs : GuideControl;\n")
+RUNS = 50
+PERIOD = 0.002  # s: every periodic master (the scripts' 0.01 s, as a user sets it)
+RUN_TIMEOUT = 30.0  # s per deployment; one takes 2 to 4 s under load
+ERROR = re.compile(r"\[\s*ERROR\s*\]")
+CONNECTED = re.compile(r"Connected Port ([\w.]+) to\s+([\w.]+)\.")
+CONNECT = re.compile(r'^connect\("([\w.]+)", "([\w.]+)", \w+\)$', re.M)
+LOAD = re.compile(r'^loadComponent\("(\w+)", "[\w:]+"\)$', re.M)
+
+
+@pytest.fixture(scope="module")
+def rtt() -> orocos.Installation:
+    """RTT and OCL; with ../shared/vendor/orocos a missing or failed build is a failure."""
+    try:
+        return orocos.installation()
+    except orocos.OrocosBuildFailed as failure:
+        pytest.fail(str(failure), pytrace=False)
+    except orocos.OrocosUnavailable as reason:
+        pytest.fail(str(reason), pytrace=False)
+
+
+def generate(model: Path, user: Path, folder: Path) -> Path:
+    """gen --target orocos over the sample's user code ``user`` copied into ``folder``."""
+    shutil.copytree(user, folder / "user")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "orocos", "-o",
+                             str(folder)], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert not [line for line in result.stdout.splitlines() if line.startswith(("created ", "orphaned "))]
+    return folder
+
+
+def install(out: Path, rtt: orocos.Installation, build: str, *flags: str) -> Path:
+    """The project built (warnings are errors) and installed; the prefix holding lib/orocos."""
+    prefix = out / f"{build}_install"
+    env = rtt.environment([])
+    for command in (["cmake", "-S", str(out), "-B", str(out / build), f"-DCMAKE_PREFIX_PATH={rtt.prefix}",
+                     "-DCMAKE_CXX_FLAGS=" + " ".join(flags)],
+                    ["cmake", "--build", str(out / build), "-j", "2"],
+                    ["cmake", "--install", str(out / build), "--prefix", str(prefix)]):
+        result = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env)
+        assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
+        assert "warning:" not in result.stdout + result.stderr
+    return prefix
+
+
+def deployment(out: Path, folder: Path) -> Path:
+    """A copy of deploy/ whose periodic masters run every PERIOD."""
+    shutil.copytree(out / "deploy", folder)
+    for script in folder.glob("*.ops"):
+        text = script.read_text()
+        script.write_text(re.sub(r'^(setActivity\("\w+", )0\.01(, )', rf"\g<1>{PERIOD}\g<2>", text, flags=re.M))
+    return folder
+
+
+class Deployer:
+    """Deployments of one build from one folder."""
+
+    def __init__(self, deploy: Path, prefix: Path, rtt: orocos.Installation) -> None:
+        self.deploy = deploy
+        self.env = rtt.environment([prefix / "lib" / "orocos"])
+        scripts = "\n".join(p.read_text() for p in sorted(deploy.glob("*.ops")))
+        self.connects = sorted(CONNECT.findall(scripts))
+        self.masters = LOAD.findall((deploy / "system.ops").read_text())
+
+    def run(self, seen: Callable[[list[str]], bool]) -> tuple[list[str], list[str]]:
+        """One deployment, stopped once ``seen``; (its output, what goes wrong besides the sample's checks)."""
+        lines, ok = run_until(["deployer", "-l", "info", "-s", "system.ops"], seen, RUN_TIMEOUT, self.env,
+                              cwd=self.deploy, graceful=False)
+        found = [] if ok else [f"not done in {RUN_TIMEOUT} s: " + " | ".join(lines[-5:])]
+        log = (self.deploy / "orocos.log").read_text(errors="replace").splitlines()
+        found += [line for line in lines + log if ERROR.search(line) or "value sent is lost" in line][:3]
+        connected = sorted((m.group(1), m.group(2)) for m in map(CONNECTED.search, log) if m)
+        if connected != self.connects:
+            found.append(f"{len(connected)} connections made, the scripts make {len(self.connects)}")
+        return lines, found
+
+
+def report(sample: str, latencies: list[float]) -> None:
+    print(f"\n{sample}: {len(latencies)} switches, latency median {statistics.median(latencies):.3f} ms, "
+          f"worst {max(latencies):.3f} ms")
+
+
+# ---------------------------------------------------------------- two_arm
+
+
+@pytest.fixture(scope="module")
+def two_arm(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return generate(TWO_ARM, TWO_ARM.parent / "user", tmp_path_factory.mktemp("two_arm_orocos"))
+
+
+@pytest.fixture(scope="module")
+def two_arm_cpp_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str]]:
+    """The switches of the C++ target's deterministic run."""
+    folder = tmp_path_factory.mktemp("two_arm_cpp")
+    binary = cmake_build(generate_with_user_code(TWO_ARM, TWO_ARM.parent / "user", folder / "out"),
+                         folder / "build", "TwoArm_system")
+    found = switches(run(binary, "--cycles", "6000").splitlines())
+    assert len(found) == 20
+    return found
+
+
+def test_two_arm_deployments_under_load_hand_every_command_over(
+        two_arm: Path, rtt: orocos.Installation, two_arm_cpp_switches: list[tuple[str, str]]) -> None:
+    deployer = Deployer(deployment(two_arm, two_arm / "deploy_2ms"), install(two_arm, rtt, "build"), rtt)
+    system_connects = CONNECT.findall((two_arm / "deploy" / "system.ops").read_text())
+    # the model's 4 links (all variable), and per master but the coordinator task/a.cs its 2 control ports
+    assert len(system_connects) == 4 + 2 * (len(deployer.masters) - 1) and len(deployer.masters) == 3
+    failures, latencies = [], []
+    with cpu_hogs():
+        for attempt in range(1, RUNS + 1):
+            lines, found = deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))
+            found += two_arm_problems(lines)
+            if switches(lines) != two_arm_cpp_switches:
+                found.append(f"switches {switches(lines)}")
+            latencies += latencies_ms(lines)
+            if found:
+                failures.append(f"run {attempt}: {found}")
+    report("two_arm", latencies)
+    assert not failures, f"{len(failures)} of {RUNS} deployments failed:\n" + "\n".join(failures[:5])
+
+
+def test_the_checks_catch_a_switch_that_skips_the_drain(two_arm: Path, rtt: orocos.Installation) -> None:
+    prefix = install(two_arm, rtt, "build_undrained", "-DEARL_SWITCH_DRAIN=0")
+    deployer = Deployer(deployment(two_arm, two_arm / "deploy_undrained"), prefix, rtt)
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(1, RUNS + 1)
+                       if two_arm_problems(deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))[0])), None)
+    assert caught is not None, f"all {RUNS} deployments of the drain-skipping build passed the checks"
+
+
+# ---------------------------------------------------------------- harmoniser
+
+
+@pytest.fixture(scope="module")
+def harmoniser_cpp_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str]]:
+    folder = tmp_path_factory.mktemp("harmoniser_cpp")
+    binary = cmake_build(generate_with_user_code(HARMONISER, HARMONISER.parent / "user", folder / "out"),
+                         folder / "build", "Harmoniser_system")
+    return switches(run(binary, "--cycles", "140").splitlines())
+
+
+def test_harmoniser_deployments_under_load_resume_the_guide_agent(
+        tmp_path_factory: pytest.TempPathFactory, rtt: orocos.Installation,
+        harmoniser_cpp_switches: list[tuple[str, str]]) -> None:
+    assert harmoniser_cpp_switches == HARMONISER_SWITCHES
+    out = generate(HARMONISER, HARMONISER.parent / "user", tmp_path_factory.mktemp("harmoniser_orocos"))
+    deployer = Deployer(deployment(out, out / "deploy_2ms"), install(out, rtt, "build"), rtt)
+    failures, latencies = [], []
+    with cpu_hogs():
+        for attempt in range(1, RUNS + 1):
+            lines, found = deployer.run(harmoniser_finished)
+            if switches(lines) != harmoniser_cpp_switches:
+                found.append(f"switches {switches(lines)}")
+            found += [line for line in lines if "undelivered at switch" in line or "overflowed" in line]
+            try:
+                assert_resumed(lines, "guide_a_cs")
+                assert_fall_help_starts_initially(lines, "fallHelp_a_cs")
+            except (AssertionError, StopIteration, ValueError) as failed:
+                found.append(f"guide/a or fallHelp/a: {failed!r}")
+            latencies += latencies_ms(lines)
+            if found:
+                failures.append(f"run {attempt}: {found}")
+    report("harmoniser", latencies)
+    assert not failures, f"{len(failures)} of {RUNS} deployments failed:\n" + "\n".join(failures[:5])
+
+
+def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path, rtt: orocos.Installation) -> None:
+    text = HARMONISER.with_suffix(".sysml").read_text(encoding="utf-8")
+    assert text.count(GUIDE_RESUMES) == 1
+    restarted = tmp_path / "harmoniser.sysml"
+    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
+    out = generate(restarted, HARMONISER.parent / "user", tmp_path / "out")
+    deployer = Deployer(deployment(out, out / "deploy_2ms"), install(out, rtt, "build"), rtt)
+    lines, found = deployer.run(harmoniser_finished)
+    assert not found and switches(lines) == HARMONISER_SWITCHES, found
+    assert next(m for m in map(LEAD.match, lines[resume_index(lines):]) if m).group(1) == "1"
+    with pytest.raises(AssertionError):
+        assert_resumed(lines, "guide_a_cs")
+
