@@ -4,7 +4,7 @@ Writes to stdout, or to FILE atomically (through :mod:`earl_m2t.output`); an exi
 with other content (hand edits, say) is kept unless ``--force``, exit 1. A model that cannot
 be read, or a file that cannot be written, is one line on stderr and exit 2. So is a model the
 text cannot carry: the text is read back before it is written, and must lift to the same EARL
-model (:mod:`earl_m2t.convert.round_trip`).
+model (:mod:`earl_m2t.diff.round_trip`).
 """
 
 from __future__ import annotations
@@ -41,8 +41,8 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.api import load
     from earl_m2t.cli.model_file import write_model_file
     from earl_m2t.convert import to_sysml
-    from earl_m2t.convert.round_trip import NotARoundTrip, check_round_trip
     from earl_m2t.diagnostics import ModelReadError
+    from earl_m2t.diff.round_trip import NotARoundTrip, check_round_trip
 
     try:
         loaded = load(args.model, args.dialect, args.profiles)

@@ -18,7 +18,7 @@ class NotARoundTrip(Exception):
 
 def check_round_trip(model: EarlModel, text: str) -> None:
     """Raises NotARoundTrip when ``text`` (``model`` as SysML v2) does not lift to ``model``."""
-    from earl_m2t.api import load  # the reader and the lift: the whole read path, as a user's next command
+    from earl_m2t.api import load  # the whole read path, as a user's next command; imported when used
 
     with tempfile.TemporaryDirectory(prefix="earl-m2t-convert-") as folder:
         path = Path(folder) / "converted.sysml"
