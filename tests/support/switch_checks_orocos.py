@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import re
 
+from tests.support.switch_checks import TwoArm
+
 # ---------------------------------------------------------------- two_arm
 
 COMMANDS = 201  # 10 per configuration before each of the 20 hand-overs, then one more
 SWITCHES = 20
-TIMEOUT_MS = 50.0  # the configurations' switchTimeout
+TIMEOUT_MS = TwoArm.TIMEOUT_MS  # the configurations' switchTimeout, one value for every runtime
 
 SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
 TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
