@@ -124,11 +124,13 @@ class BuiltInPredicate(StrEnum):
     """The predicates the runtime answers, written ``name()``."""
 
     LEAVING = "leaving"  # a switch that removes the subsystem's agent is pending
+    IN_ERROR = "inError"  # the current behaviour's error condition held (FABRIC's IN_ERROR)
+    BEHAVIOUR_OK = "behaviourOk"  # no pf of the current behaviour failed (CURRENT_BEHAVIOR_OK)
 
 
 @dataclass(frozen=True, slots=True)
 class BuiltIn:
-    """``leaving()``: a built-in predicate of the runtime."""
+    """``leaving()``, ``inError()``, ``behaviourOk()``: a built-in predicate of the runtime."""
 
     name: BuiltInPredicate
     line: int = _position()

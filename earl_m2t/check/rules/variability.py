@@ -13,7 +13,7 @@ from earl_m2t.model.elements import EarlModel, Subsystem, System
 from earl_m2t.model.kinds import REACTIVATIONS, SubsystemKind
 from earl_m2t.model.limits import MAX_SECONDS
 from earl_m2t.model.variability import coordinator, coordinators, present, system_links, variable_agents
-from earl_m2t.predicate import BuiltIn
+from earl_m2t.predicate import BuiltIn, BuiltInPredicate
 from earl_m2t.predicate.walk import walk
 
 
@@ -148,7 +148,8 @@ class _LeavingUse:
             return False
         found = self._known.get(id(expr))
         if found is None:
-            found = self._known[id(expr)] = any(isinstance(node, BuiltIn) for node in walk(expr))
+            found = self._known[id(expr)] = any(
+                isinstance(node, BuiltIn) and node.name == BuiltInPredicate.LEAVING for node in walk(expr))
         return found
 
 
