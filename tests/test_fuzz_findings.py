@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from earl_m2t.model.limits import MAX_OPERATORS
 from tests.support.paths import ROOT, SHARED
 
 FINDINGS = SHARED / "fuzz-findings"
@@ -86,6 +87,35 @@ def test_the_diff_of_a_model_the_reader_refuses_is_one_line() -> None:
     result = earl("diff", sample, FINDINGS / "diff-recursion" / "model.sysml", cwd=ROOT)
     assert result.returncode == 2, result.stdout + result.stderr
     assert "prefix operators in a row" in result.stderr and "internal error" not in result.stderr
+
+
+def long_ec(operators: int, dialect: str) -> str:
+    """The sample with one ec of ``operators`` disjunctions (R6: the parse cost grows faster than the text)."""
+    if dialect == "sysml":
+        text = (ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml").read_text()
+        return text.replace("constraint ec { false }", "constraint ec { " + "false or " * operators + "false }", 1)
+    text = (ROOT / "samples" / "pick_and_place" / "pick_and_place.uml").read_text()
+    return text.replace("<body>FALSE</body>", "<body>" + "FALSE ∨ " * operators + "FALSE</body>", 1)
+
+
+@pytest.mark.parametrize(("dialect", "refused_with"), [("sysml", 2), ("uml", 1)])
+def test_an_expression_past_the_operator_bound_is_refused_at_once(dialect: str, refused_with: int,
+                                                                 tmp_path: Path) -> None:
+    """R6: SysML v2 text is refused before parsing (exit 2); a predicate-language body is a
+    condition the checker reports (exit 1); both in well under a second of parsing."""
+    model = tmp_path / f"long.{dialect}"
+    model.write_text(long_ec(MAX_OPERATORS + 1, dialect))
+    result = earl("check", model, cwd=ROOT)
+    assert result.returncode == refused_with, result.stdout + result.stderr
+    assert f"more than {MAX_OPERATORS} operators" in result.stdout + result.stderr
+    assert f"{model}:" in result.stdout + result.stderr  # where: the file and its line
+
+
+def test_an_expression_within_the_operator_bound_is_read(tmp_path: Path) -> None:
+    model = tmp_path / "long.sysml"
+    model.write_text(long_ec(MAX_OPERATORS - 1, "sysml"))
+    result = earl("check", model, cwd=ROOT)
+    assert result.returncode == 0, result.stdout + result.stderr
 
 
 def test_trace_of_a_corrupt_source_map_is_one_line(tmp_path: Path) -> None:

@@ -17,6 +17,7 @@ from typing import Any, Literal
 from textx import metamodel_from_file
 from textx.exceptions import TextXError, TextXSyntaxError
 
+from earl_m2t.model.limits import MAX_OPERATORS
 from earl_m2t.predicate.ast import (
     FIELD_SUFFIXES,
     BuiltIn,
@@ -40,6 +41,8 @@ from earl_m2t.resources import metamodel_path
 
 # Spaces between tokens: ASCII white space and the no-break / thin spaces of pasted text.
 _WHITESPACE = " \t\r\n\f\v\u00a0\u2007\u2009\u202f"
+# the binary and prefix operators of the grammar (metamodel/grammar/predicate.tx), comparisons included
+_OPERATOR = re.compile(r"(?<![\w/])(?:or|and|not)(?![\w/])|[∨∧¬≤≥≠]|\|\||&&|[<>=!]=?")
 
 _COMPARISONS = {"=": "==", "≤": "<=", "≥": ">=", "≠": "!="}
 
@@ -63,6 +66,7 @@ def parse_predicate(text: str) -> Expr:
         raise PredicateSyntaxError(
             "the predicate is empty: expected a predicate name or '(' at column 1", 1, 1
         )
+    _refuse_long(text)
     try:
         model = _metamodel().model_from_str(text)
         return _Builder(text).or_expr(model.expr)
@@ -75,6 +79,13 @@ def parse_predicate(text: str) -> Expr:
     except RecursionError:
         message = "the predicate is nested too deeply (at column 1)"
         raise PredicateSyntaxError(message, 1, 1) from None
+
+
+def _refuse_long(text: str) -> None:
+    """More than ``MAX_OPERATORS`` operators: refused before parsing, whose cost grows faster."""
+    operators = _OPERATOR.findall(text)
+    if len(operators) > MAX_OPERATORS:
+        raise PredicateSyntaxError(f"the predicate has more than {MAX_OPERATORS} operators: not read", 1, 1)
 
 
 # -- from the textX model to AST nodes ------------------------------------------------

@@ -148,9 +148,10 @@ def expand_replicated(expr: Expr, count_for: Callable[[Replicated], int | None])
             counts[id(node)] = count_for(node)
         return counts[id(node)]
 
-    size = _expanded_size(expr, counted, MAX_EXPANSION)
-    if size > MAX_EXPANSION:
-        first = next(n for n in _walk(expr) if isinstance(n, Replicated))
+    first = next((n for n in _walk(expr) if isinstance(n, Replicated)), None)
+    if first is None:  # nothing to expand: a long expression is not an expansion
+        return expr
+    if _expanded_size(expr, counted, MAX_EXPANSION) > MAX_EXPANSION:
         raise ExpansionRefused(f"its replications expand to more than {MAX_EXPANSION} terms", first)
 
     def visit(node: Node) -> Node:

@@ -1,6 +1,7 @@
 """What the SysML v2 reader refuses before parsing: control characters, nesting beyond
-``MAX_NESTING`` and a run of more than ``MAX_NESTING`` prefix operators (``not not … x``: each
-one a level of the parser's recursion, as a bracket is).
+``MAX_NESTING``, a run of more than ``MAX_NESTING`` prefix operators (``not not … x``: each
+one a level of the parser's recursion, as a bracket is) and an expression of more than
+``MAX_OPERATORS`` operators (each costs the parser a descent through every precedence level).
 
 Both are reported as ``file:line:col: error: ...`` at the offending character. Control
 characters (C0 other than tab, line feed and carriage return; DEL; C1; U+FFFE, U+FFFF) cannot be
@@ -13,6 +14,8 @@ from __future__ import annotations
 
 import re
 
+from earl_m2t.model.limits import MAX_OPERATORS
+
 MAX_NESTING = 200
 
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ufffe\uffff]")
@@ -24,6 +27,8 @@ _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _CONTROL_ESCAPES = "bf"
 # prefix operators one after the other: ``not``, ``-``, ``+``, ``~``
 _PREFIX_RUN = re.compile(rf"(?:(?<![\w'])not(?![\w'])\s*|[-+~]\s*){{{MAX_NESTING + 1},}}")
+# an expression never holds ';', '{' or '}': the operators between two of them belong to one at most
+_OPERATOR = re.compile(r"(?<![\w'])(?:or|and|xor|implies|not)(?![\w'])|[|&=<>!+\-*/%^~]+|[{};]")
 
 
 class Refused(Exception):
@@ -62,10 +67,27 @@ def refuse_unreadable(text: str) -> None:
                                                f"('{bracket.group(0)}'): not read")
         else:
             depth = max(depth - 1, 0)
-    run = _PREFIX_RUN.search(_SKIPPED.sub(lambda skipped: " " * len(skipped.group(0)), text))
+    code = _SKIPPED.sub(lambda skipped: " " * len(skipped.group(0)), text)
+    run = _PREFIX_RUN.search(code)
     if run is not None:
         raise Refused(run.start(), f"more than {MAX_NESTING} prefix operators in a row ('{run.group(0)[:3].strip()}'): "
                                    "not read")
+    _refuse_long_expression(code)
+
+
+def _refuse_long_expression(code: str) -> None:
+    """More than ``MAX_OPERATORS`` operators between two of ';', '{', '}' (strings and comments blanked)."""
+    count = 0
+    start = 0
+    for found in _OPERATOR.finditer(code):
+        if found.group(0) in "{};":
+            count = 0
+            continue
+        if count == 0:
+            start = found.start()
+        count += 1
+        if count > MAX_OPERATORS:
+            raise Refused(start, f"an expression of more than {MAX_OPERATORS} operators: not read")
 
 
 def _refuse_control_escape(quoted: str, offset: int) -> None:

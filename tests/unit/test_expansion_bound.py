@@ -33,3 +33,8 @@ def test_nested_replications_past_the_bound_are_refused_before_expanding() -> No
 def test_a_replication_over_the_variable_of_one_it_is_in_is_refused() -> None:
     with pytest.raises(ExpansionRefused, match="inside another over K"):
         expand_replicated(nested("KK"), lambda node: 2)
+
+
+def test_a_long_expression_without_replications_is_not_an_expansion() -> None:
+    long = Or(tuple(PredicateRef(f"p{k}/pp") for k in range(MAX_EXPANSION + 1)))
+    assert expand_replicated(long, lambda node: 6) is long
