@@ -67,12 +67,12 @@ def refuse_unreadable(text: str) -> None:
                                                f"('{bracket.group(0)}'): not read")
         else:
             depth = max(depth - 1, 0)
-    code = _SKIPPED.sub(lambda skipped: " " * len(skipped.group(0)), text)
-    run = _PREFIX_RUN.search(code)
+    blanked = _SKIPPED.sub(lambda skipped: " " * len(skipped.group(0)), text)
+    run = _PREFIX_RUN.search(blanked)
     if run is not None:
         raise Refused(run.start(), f"more than {MAX_NESTING} prefix operators in a row ('{run.group(0)[:3].strip()}'): "
                                    "not read")
-    _refuse_long_expression(code)
+    _refuse_long_expression(blanked)
 
 
 def _refuse_long_expression(code: str) -> None:
