@@ -127,6 +127,7 @@ def write_files(out_dir: Path | str, files: Mapping[str, bytes],
         targets.append((relative, target, content))
 
     removed = _remove_stale_temporaries(root, [relative for relative, _, _ in targets])
+    renamed_in: set[Path] = set()  # folders whose entries changed: synced once each, at the end
     written: list[str] = []
     unchanged: list[str] = []
     created: list[str] = []
@@ -136,17 +137,22 @@ def write_files(out_dir: Path | str, files: Mapping[str, bytes],
             if relative in once:
                 made = _create_once(target, content, root_given / str(relative))
                 (created if made else kept).append(str(relative))
+                if made:
+                    renamed_in.add(target.parent)
                 continue
             if _same_content(target, content):
                 unchanged.append(str(relative))
                 continue
             _write_atomically(target, content, root_given / str(relative))
+            renamed_in.add(target.parent)
         except OutputError as error:
+            _sync_folders(renamed_in)
             done = WriteReport(root_given, tuple(written), tuple(unchanged), tuple(created), tuple(kept), removed)
             processed = len(written) + len(unchanged) + len(created) + len(kept)
             raise OutputError(f"{error}; {len(written) + len(created)} file(s) were written before it (listed "
                               f"above), {len(targets) - processed} of {len(targets)} were not", done) from None
         written.append(str(relative))
+    _sync_folders(renamed_in)
     return WriteReport(root_given, tuple(written), tuple(unchanged), tuple(created), tuple(kept), removed)
 
 
@@ -245,7 +251,6 @@ def _write_atomically(target: Path, content: bytes, shown: Path) -> None:
         except OSError:
             pass
         raise OutputError(f"cannot write {shown}: {_reason(error)}") from None
-    _sync_folder(folder)
 
 
 def _create_once(target: Path, content: bytes, shown: Path) -> bool:
@@ -281,7 +286,6 @@ def _create_once(target: Path, content: bytes, shown: Path) -> bool:
             os.unlink(temporary)
         except OSError:
             pass
-    _sync_folder(folder)
     return True
 
 
@@ -298,8 +302,15 @@ def _mode_for(target: Path) -> int:
     return 0o666 & ~umask
 
 
+def _sync_folders(folders: set[Path]) -> None:
+    """Make the renames durable, one fsync per folder (each file's content was synced before its
+    rename, so a crash leaves every file either old or new)."""
+    for folder in sorted(folders):
+        _sync_folder(folder)
+
+
 def _sync_folder(folder: Path) -> None:
-    """Make the rename durable where the platform allows fsync on a folder."""
+    """Make the renames in ``folder`` durable where the platform allows fsync on a folder."""
     try:
         descriptor = os.open(folder, os.O_RDONLY)
     except OSError:

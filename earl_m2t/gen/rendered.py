@@ -22,10 +22,20 @@ class Rendered:
     notes: tuple[str, ...] = ()  # what the target could not express, said after the written files
 
 
-def put_file(files: dict[str, bytes], path: str, content: bytes) -> None:
-    """Add a file; two paths that differ only in case are refused, as they would be one file on
-    some file systems."""
+class FileTable(dict[str, bytes]):
+    """Relative path → content, which knows its paths case-folded: two paths that differ only in
+    case are one file on some file systems, and a model of thousands of elements makes thousands
+    of files, so the check must not look at every path each time."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.folded: set[str] = set()
+
+
+def put_file(files: FileTable, path: str, content: bytes) -> None:
+    """Add a file; two paths that differ only in case are refused."""
     key = path.lower()
-    if any(existing.lower() == key for existing in files):
+    if key in files.folded:
         raise GenError(f"two generated files map to the path {path}")
+    files.folded.add(key)
     files[path] = content

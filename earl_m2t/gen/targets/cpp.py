@@ -8,7 +8,7 @@ from __future__ import annotations
 from earl_m2t.gen.engine import load_target, target_dir
 from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.rendered import Rendered, put_file
+from earl_m2t.gen.rendered import FileTable, Rendered, put_file
 from earl_m2t.gen.target import Renderer, TargetRun, View, Views
 from earl_m2t.gen.views.cpp import CppTarget, CppView, build_view
 
@@ -29,8 +29,8 @@ VIEW = View("cpp", _cpp_view)
 def _render(run: TargetRun) -> Rendered:
     view = run.views.get(VIEW)
     env = run.environment()
-    generated: dict[str, bytes] = {}
-    user: dict[str, bytes] = {}
+    generated = FileTable()
+    user = FileTable()
     ns = view.system["ns"]
     groups = run.spec["templates"]
     for template, pattern in sorted(groups["system"].items()):
@@ -60,9 +60,9 @@ def _render(run: TargetRun) -> Rendered:
 RENDERER = Renderer(views=(VIEW,), render=_render)
 
 
-def runtime_and_headers(cpp: Rendered, prefix: str) -> dict[str, bytes]:
+def runtime_and_headers(cpp: Rendered, prefix: str) -> FileTable:
     """The C++ target's runtime and generated headers, which the ROS and Orocos code includes."""
-    generated: dict[str, bytes] = {}
+    generated = FileTable()
     for path, content in sorted(cpp.generated.items()):
         if path.startswith(("runtime/", "generated/include/")):
             put_file(generated, prefix + path, content)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from earl_m2t.gen.engine import load_target
 from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.errors import GenError
-from earl_m2t.gen.rendered import MSG_FILE_MARKER, Rendered, put_file
+from earl_m2t.gen.rendered import MSG_FILE_MARKER, FileTable, Rendered, put_file
 from earl_m2t.gen.target import Renderer, TargetRun, View, Views
 from earl_m2t.gen.views.msg import MsgTarget, MsgView, build_view
 
@@ -26,7 +26,7 @@ VIEW = View("msg", _msg_view)
 def _render(run: TargetRun) -> Rendered:
     view = run.views.get(VIEW)
     env = run.environment()
-    generated: dict[str, bytes] = {}
+    generated = FileTable()
     for message in view.messages:
         for template, pattern in sorted(run.spec["templates"].items()):
             content = render_template(env, template, model=view.model, package=view.package, message=message)
