@@ -25,6 +25,7 @@ from earl_m2t.model.elements import (
     EarlModel,
     Group,
     Link,
+    Simulation,
     State,
     Subsystem,
     System,
@@ -205,11 +206,12 @@ class _View:
         if definition is None:
             return
         lines = definition.lines
+        lines.extend(_simulation(subsystem.simulation, concept))
         for buffers, buffer_concept in ((subsystem.inputs, "InputBuffer"), (subsystem.outputs, "OutputBuffer")):
             for template, group in _grouped(buffers, lambda b: b.template):
                 size = f"[{len(group)}]" if group[0].index else ""
                 body = [f"attribute :>> msg : {self.type_name(group[0].datatype)};"] if group[0].datatype else []
-                body += _receive(group[0])
+                body += _buffer_tags(group[0], buffer_concept)
                 message = f" {{ {' '.join(body)} }}" if body else ";"
                 lines.append(f"port {quoted(template)} : {buffer_concept}{size}{message}")
         for template, group in _grouped(subsystem.memory, lambda m: m.template):
@@ -276,7 +278,7 @@ class _View:
         return lines + ["}"]
 
     def state(self, subsystem: Subsystem, state: State, shared: set[str]) -> list[str]:
-        activation = _activation(state.activation) + _state_variability(state)
+        activation = _activation(state.activation) + _state_variability(state) + _composition(state)
         if not state.behaviours and not activation:
             return [f"state {quoted(state.name)};"]
         lines = [f"state {quoted(state.name)} {{"] + [f"    {line}" for line in activation]
@@ -411,13 +413,46 @@ def _receive(buffer: Buffer) -> list[str]:
     return [f"@Receive {{ receive = ReceiveMode::{buffer.receive}; queueSize = {buffer.queue_size}; }}"]
 
 
+def _buffer_tags(buffer: Buffer, concept: str) -> list[str]:
+    """``@Receive { … }``, or with FABRIC's side, converter and channel ``@InputBuffer { … }``
+    / ``@OutputBuffer { … }``, of a buffer port."""
+    fabric = [f"{tag} = {_string_literal(value)};" for tag, value in (
+        ("side", buffer.side), ("converter", buffer.converter), ("channel", buffer.channel)) if value]
+    receive = _receive(buffer)
+    if not fabric:
+        return receive
+    tags = ([f"receive = ReceiveMode::{buffer.receive};", f"queueSize = {buffer.queue_size};"] if receive else [])
+    return [f"@{concept} {{ {' '.join(tags + fabric)} }}"]
+
+
+def _simulation(simulation: Simulation | None, concept: str) -> list[str]:
+    """``@ControlSubsystem { useRosSimClock = …; … }``: FABRIC's ``<simulation>`` of a subsystem."""
+    if simulation is None:
+        return []
+    flags = [("useRosSimClock", simulation.use_ros_sim_clock), ("useSimClock", simulation.use_sim_clock),
+             ("triggerGazebo", simulation.trigger_gazebo)]
+    tags = " ".join(f"{tag} = {'true' if value else 'false'};" for tag, value in flags if value is not None)
+    return [f"@{concept} {{ {tags} }}"]
+
+
+def _composition(state: State) -> list[str]:
+    """``@FsmState { behaviours = "…"; exclusiveGuards = true; }``: FABRIC's behaviours a state
+    runs side by side, and guards that exclude each other by design."""
+    tags = [f"behaviours = {_string(state.composes)};"] if state.composes else []
+    tags += ["exclusiveGuards = true;"] if state.exclusive_guards else []
+    return [f"@FsmState {{ {' '.join(tags)} }}"] if tags else []
+
+
 def _activation(activation: Activation) -> list[str]:
     """``@Activation { … }`` of a state that says when its subsystem iterates."""
     tags = [f'bufferGroup = "{activation.group}";'] if activation.group else []
     for tag, value in (("minPeriod", activation.min_period), ("firstTimeout", activation.first_timeout),
-                       ("nextTimeout", activation.next_timeout)):
+                       ("nextTimeout", activation.next_timeout), ("minPeriodSim", activation.min_period_sim),
+                       ("firstTimeoutSim", activation.first_timeout_sim)):
         if value is not None:
             tags.append(f"{tag} = {value!r};")
+    if activation.used_time:
+        tags.append(f"usedTime = {_string_literal(activation.used_time)};")
     return [f"@Activation {{ {' '.join(tags)} }}"] if tags else []
 
 

@@ -75,6 +75,13 @@ class FabricState:
 
 
 @dataclass(frozen=True)
+class FabricSimulation:
+    use_ros_sim_clock: bool
+    use_sim_clock: bool
+    trigger_gazebo: bool | None  # None: not given
+
+
+@dataclass(frozen=True)
 class FabricComponent:
     name: str
     type: str
@@ -95,6 +102,7 @@ class FabricPackage:
     where: Where
     components: tuple[FabricComponent, ...]  # of every configuration, first declaration wins
     channels: tuple[tuple[str, str], ...]  # (alias, IPC channel name) of the configurations
+    simulation: FabricSimulation | None = None
 
 
 def read_package(folder: Path) -> FabricPackage:
@@ -118,6 +126,7 @@ def read_package(folder: Path) -> FabricPackage:
     initial = _required(states_element, "initial", file)
     states = tuple(_state(e, file) for e in states_element if e.tag == "state")
     _check_references(file, groups, behaviours, states, initial, states_element)
+    simulation = _simulation(root, file)
     components: dict[str, FabricComponent] = {}
     channels: list[tuple[str, str]] = []
     config = folder / CONFIG
@@ -126,7 +135,7 @@ def read_package(folder: Path) -> FabricPackage:
     return FabricPackage(name=folder.resolve().name, spec_file=file, buffers=buffers, groups=groups,
                          predicates=predicates, behaviours=behaviours, states=states, initial=initial,
                          where=_where(root, file), components=tuple(components.values()),
-                         channels=tuple(channels))
+                         channels=tuple(channels), simulation=simulation)
 
 
 def _where(element: etree._Element, file: str) -> Where:
@@ -207,6 +216,28 @@ def _state(element: etree._Element, file: str) -> FabricState:
                           for c in element if c.tag == "next_state"),
         group=FabricStateGroup(name=_required(group, "name", file), used_time=used_time, **times),
         where=_where(element, file))
+
+
+def _simulation(root: etree._Element, file: str) -> FabricSimulation | None:
+    """``<simulation use_ros_sim_clock use_sim_clock [trigger_gazebo]>``, read as FABRIC does."""
+    found = list(root.iter("simulation"))
+    if len(found) > 1:
+        raise _fail(found[1], file, "FABRIC wants at most one <simulation>")
+    if not found:
+        return None
+    element = found[0]
+    return FabricSimulation(bool(_boolean(element, "use_ros_sim_clock", file, True)),
+                            bool(_boolean(element, "use_sim_clock", file, True)),
+                            _boolean(element, "trigger_gazebo", file, False))
+
+
+def _boolean(element: etree._Element, attribute: str, file: str, required: bool) -> bool | None:
+    text = _required(element, attribute, file) if required else element.get(attribute, "")
+    if not text:
+        return None
+    if text.upper() not in ("TRUE", "FALSE"):
+        raise _fail(element, file, f"<{element.tag}> {attribute}='{text}' is neither true nor false")
+    return text.upper() == "TRUE"
 
 
 def _check_references(file: str, groups: tuple[FabricGroup, ...], behaviours: tuple[FabricBehaviour, ...],

@@ -37,6 +37,7 @@ from earl_m2t.model.elements import (
     PartialFunction,
     PrimitivePredicate,
     Robot,
+    Simulation,
     State,
     Subsystem,
     System,
@@ -51,6 +52,7 @@ DIALECT = "fabric"
 RECOGNISED = "suffix"
 LANGUAGE = "EARL"
 CODE = "C++"
+COMPOSED = "__"  # joins the names of the behaviours a state runs side by side
 
 
 @dataclass(frozen=True)
@@ -162,7 +164,7 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         buffer_name = f"{buf.alias}/{suffix}"
         buffers.append(Buffer(name=buffer_name, path=f"{path}.{buffer_name}", direction=Direction(buf.direction),
                               datatype=key, template=buffer_name, index=0, location=_location(buf.where),
-                              recognised_by=RECOGNISED))
+                              recognised_by=RECOGNISED, side=buf.side, converter=buf.converter))
     inputs = {b.name.partition("/")[0]: b for b in buffers if b.direction == "in"}
     groups = tuple(BufferGroup(name=g.name, path=f"{path}.{g.name}",
                                obligatory=tuple(inputs[a].name for a in g.obligatory),
@@ -191,19 +193,44 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         text = PREDICATE_CALL.sub(r"\1.fun", format_predicate(expr))
         return Condition(text, LANGUAGE, _location(where), owner, role)
 
-    behaviours = tuple(BasicBehaviour(
-        name=f"{b.name}/bb", path=f"{path}.{b.name}/bb",
-        tc=condition(b.stop_cond, b.where, f"{path}.{b.name}/bb", ConditionRole.TC, f"behavior '{b.name}' stop_cond"),
-        ec=condition(b.err_cond, b.where, f"{path}.{b.name}/bb", ConditionRole.EC, f"behavior '{b.name}' err_cond"),
-        stages=((tuple(f"{r}/pf" for r in b.running),) if b.running else ()), activity_problems=(),
-        location=_location(b.where), recognised_by=RECOGNISED) for b in package.behaviours)
+    def behaviour(name: str, stop_cond: str, err_cond: str, running: tuple[str, ...], where: Where,
+                  what: str) -> BasicBehaviour:
+        bb_path = f"{path}.{name}/bb"
+        return BasicBehaviour(
+            name=f"{name}/bb", path=bb_path,
+            tc=condition(stop_cond, where, bb_path, ConditionRole.TC, f"{what} stop_cond"),
+            ec=condition(err_cond, where, bb_path, ConditionRole.EC, f"{what} err_cond"),
+            stages=((tuple(f"{r}/pf" for r in running),) if running else ()), activity_problems=(),
+            location=_location(where), recognised_by=RECOGNISED)
+
+    behaviours = [behaviour(b.name, b.stop_cond, b.err_cond, b.running, b.where, f"behavior '{b.name}'")
+                  for b in package.behaviours]
+    by_name = {b.name: b for b in package.behaviours}
     fsm_path = f"{path}.fsm"
-    states = tuple(State(name=s.name, path=f"{fsm_path}.{s.name}", behaviours=tuple(f"{b}/bb" for b in s.behaviours),
-                         location=_location(s.where),
-                         activation=Activation(group=s.group.name, min_period=s.group.min_period,
-                                               first_timeout=s.group.first_timeout,
-                                               next_timeout=s.group.next_timeout))
-                   for s in package.states)
+    states: list[State] = []
+    for s in package.states:
+        composes: tuple[str, ...] = ()
+        own = tuple(f"{b}/bb" for b in s.behaviours)
+        if len(s.behaviours) > 1:
+            # FABRIC runs them side by side: the state ends when one's err_cond (else one's
+            # stop_cond) holds, the components of all run (master_component.cpp, updateHook)
+            composes, name = own, _composed_name(s.behaviours, set(by_name))
+            if all(b.name != f"{name}/bb" for b in behaviours):
+                parts = [by_name[b] for b in s.behaviours]
+                behaviours.append(behaviour(
+                    name, " or ".join(f"({p.stop_cond})" for p in parts),
+                    " or ".join(f"({p.err_cond})" for p in parts),
+                    tuple(dict.fromkeys(r for p in parts for r in p.running)), s.where,
+                    f"state '{s.name}' behaviors"))
+            own = (f"{name}/bb",)
+        states.append(State(name=s.name, path=f"{fsm_path}.{s.name}", behaviours=own, location=_location(s.where),
+                            activation=Activation(group=s.group.name, min_period=s.group.min_period,
+                                                  first_timeout=s.group.first_timeout,
+                                                  next_timeout=s.group.next_timeout,
+                                                  min_period_sim=s.group.min_period_sim,
+                                                  first_timeout_sim=s.group.first_timeout_sim,
+                                                  used_time=s.group.used_time),
+                            composes=composes, exclusive_guards=len(s.next_states) > 1))
     transitions: list[Transition] = []
     for s in package.states:
         for target, text, where in s.next_states:
@@ -214,15 +241,28 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
                 condition=condition(text, where, f"{fsm_path}.{name}", ConditionRole.IC,
                                     f"state '{s.name}' next_state '{target}'"),
                 priority=0, order=len(transitions), location=_location(where)))
-    fsm = Fsm(name="fsm", path=fsm_path, states=states, transitions=tuple(transitions),
+    fsm = Fsm(name="fsm", path=fsm_path, states=tuple(states), transitions=tuple(transitions),
               initial_states=(package.initial,), location=_location(package.where))
     return resolve_subsystem(Subsystem(
         name=names.part, path=path, kind=names.kind, agent=names.agent, block=package.name,
         block_id=package.name, template=names.part, index=0,
         inputs=tuple(b for b in buffers if b.direction == "in"),
-        outputs=tuple(b for b in buffers if b.direction == "out"), memory=(), fsm=fsm, behaviours=behaviours,
+        outputs=tuple(b for b in buffers if b.direction == "out"), memory=(), fsm=fsm, behaviours=tuple(behaviours),
         functions=functions, predicates=predicates, exclusions=(), fsm_count=1, location=_location(package.where),
-        recognised_by="stereotype", buffer_groups=groups), datatypes)
+        recognised_by="stereotype", buffer_groups=groups,
+        simulation=(Simulation(package.simulation.use_ros_sim_clock, package.simulation.use_sim_clock,
+                               package.simulation.trigger_gazebo) if package.simulation else None)), datatypes)
+
+
+def _composed_name(parts: tuple[str, ...], taken: set[str]) -> str:
+    """The name of the basic behaviour composing FABRIC's behaviours ``parts``: their names
+    joined (an identifier, as generated code needs), distinct from FABRIC's own behaviours."""
+    name = COMPOSED.join(parts)
+    candidate, n = name, 1
+    while candidate in taken:
+        n += 1
+        candidate = f"{name}_{n}"
+    return candidate
 
 
 def _links(packages: Sequence[FabricPackage], agents: dict[str, list[Subsystem]]) -> list[Link]:

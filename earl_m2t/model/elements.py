@@ -43,6 +43,10 @@ class Buffer:
     # tag's value as written, which B011 reports
     receive: str = ReceiveMode.LATEST
     queue_size: int = 0
+    # FABRIC's <in/out side converter> (tags side, converter): "" when not given
+    side: str = ""
+    converter: str = ""
+    channel: str = ""  # FABRIC's IPC channel of the buffer (<io_buffer name>, tag channel)
 
     @property
     def abbreviation(self) -> str:
@@ -156,6 +160,20 @@ class Activation:
     min_period: float | None = None  # seconds; None: the subsystem's own period
     first_timeout: float | None = None  # seconds to wait for the obligatory inputs on entry
     next_timeout: float | None = None  # ... and in later iterations
+    # FABRIC's times under simulated time and the clock it uses (tags minPeriodSim,
+    # firstTimeoutSim, usedTime): None / "" when not given
+    min_period_sim: float | None = None
+    first_timeout_sim: float | None = None
+    used_time: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class Simulation:
+    """FABRIC's ``<simulation>``: whether the subsystem runs on ROS's or Gazebo's simulated clock."""
+
+    use_ros_sim_clock: bool
+    use_sim_clock: bool
+    trigger_gazebo: bool | None = None  # None: not given
 
 
 @dataclass(frozen=True, slots=True)
@@ -167,6 +185,11 @@ class State:
     activation: Activation = Activation()
     configuration: str = ""  # the configuration it names (a coordinator's state), "" for none
     quiescent: bool = False  # its agent may be stopped by a switch while it is current
+    # FABRIC's behaviours of a state that runs several side by side (tag behaviours): its one
+    # basic behaviour composes them; () for a state of one behaviour
+    composes: tuple[str, ...] = ()
+    # its guards exclude each other by design (tag exclusiveGuards): FABRIC gets them as written
+    exclusive_guards: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -223,6 +246,7 @@ class Subsystem:
     recognised_by: str
     buffer_groups: tuple[BufferGroup, ...] = ()
     scope: Scope | None = None  # what the names in its conditions stand for; set by the lift
+    simulation: Simulation | None = None  # FABRIC's <simulation> (tags useRosSimClock, ...)
 
     @property
     def buffers(self) -> tuple[Buffer, ...]:

@@ -13,11 +13,13 @@ package on its own as well as all of them together.
 from __future__ import annotations
 
 import argparse
+import re
 import subprocess
 import sys
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from tests.support import fabric
 from tests.support.fabric_compare import differences
@@ -50,6 +52,25 @@ def regenerated_spec(package: str, out: Path) -> Path:
     return spec if spec.is_file() else out / "fabric" / f"{package}_cs" / "spec" / "subsystem.xml"
 
 
+CPP_CONDITION = re.compile(r"(\s|\(|\)|!|&&|\|\||true|false|p->[A-Za-z_][A-Za-z0-9_]*)*")
+
+
+def unusable_conditions(spec: Any) -> list[str]:
+    """The conditions of a parsed spec that FABRIC's logicExprToCpp refuses or turns into
+    something other than a C++ Boolean expression over ``p->`` members."""
+    to_cpp = fabric.logic_expr_to_cpp()
+    found: list[str] = []
+    for where, text in fabric.conditions(spec):
+        try:
+            cpp = to_cpp(text, list(spec.predicates))
+        except Exception as exc:  # what FABRIC's code raises
+            found.append(f"{where} {text!r}: {exc!r}")
+            continue
+        if CPP_CONDITION.fullmatch(cpp) is None:
+            found.append(f"{where} {text!r} -> {cpp!r}")
+    return found
+
+
 def round_trip(folders: list[Path], work: Path) -> RoundTrip:
     result = RoundTrip()
     model = work / "model.sysml"
@@ -73,6 +94,9 @@ def round_trip(folders: list[Path], work: Path) -> RoundTrip:
             result.step(False, f"{folder.name}: FABRIC's parser refuses {spec}: {exc!r}")
             continue
         result.step(True, f"{folder.name}: FABRIC's parser accepts the regenerated spec")
+        refused = unusable_conditions(again)
+        result.step(not refused, f"{folder.name}: FABRIC's logicExprToCpp makes C++ of every condition "
+                    + "; ".join(refused))
         for config in sorted(spec.parent.parent.glob("config/*.xml")):
             problems = fabric.configuration_problems(config, again)
             result.step(not problems, f"{folder.name}: {config.name} {'; '.join(problems) or 'as runXmls() reads it'}")
