@@ -90,6 +90,13 @@ class FabricComponent:
 
 
 @dataclass(frozen=True)
+class FabricConfiguration:
+    name: str  # the file's name without .xml: FABRIC's deployer runs one subsystem per file
+    channels: tuple[tuple[str, str], ...]  # (alias, IPC channel name) of its <io_buffer>s
+    where: Where
+
+
+@dataclass(frozen=True)
 class FabricPackage:
     name: str  # the package folder's name
     spec_file: str
@@ -101,8 +108,13 @@ class FabricPackage:
     initial: str
     where: Where
     components: tuple[FabricComponent, ...]  # of every configuration, first declaration wins
-    channels: tuple[tuple[str, str], ...]  # (alias, IPC channel name) of the configurations
+    configurations: tuple[FabricConfiguration, ...]  # in file name order
     simulation: FabricSimulation | None = None
+
+    @property
+    def channels(self) -> tuple[tuple[str, str], ...]:
+        """(alias, IPC channel name) of every configuration."""
+        return tuple(c for configuration in self.configurations for c in configuration.channels)
 
 
 def read_package(folder: Path) -> FabricPackage:
@@ -128,14 +140,13 @@ def read_package(folder: Path) -> FabricPackage:
     _check_references(file, groups, behaviours, states, initial, states_element)
     simulation = _simulation(root, file)
     components: dict[str, FabricComponent] = {}
-    channels: list[tuple[str, str]] = []
     config = folder / CONFIG
-    for path in sorted(config.glob("*.xml")) if config.is_dir() else []:
-        _configuration(path, components, channels)
+    configurations = tuple(_configuration(path, components)
+                           for path in (sorted(config.glob("*.xml")) if config.is_dir() else []))
     return FabricPackage(name=folder.resolve().name, spec_file=file, buffers=buffers, groups=groups,
                          predicates=predicates, behaviours=behaviours, states=states, initial=initial,
                          where=_where(root, file), components=tuple(components.values()),
-                         channels=tuple(channels), simulation=simulation)
+                         configurations=configurations, simulation=simulation)
 
 
 def _where(element: etree._Element, file: str) -> Where:
@@ -260,8 +271,9 @@ def _check_references(file: str, groups: tuple[FabricGroup, ...], behaviours: tu
                 raise ModelReadError(file, f"state '{state.name}' has the unknown next state '{target}'", where.line)
 
 
-def _configuration(path: Path, components: dict[str, FabricComponent], channels: list[tuple[str, str]]) -> None:
+def _configuration(path: Path, components: dict[str, FabricComponent]) -> FabricConfiguration:
     file = str(path)
+    channels: list[tuple[str, str]] = []
     root = parse_xml_file(path).getroot()
     if root.tag != "subsystem_configuration":
         raise _fail(root, file, f"the root is <{root.tag}>, FABRIC's deployer wants <subsystem_configuration>")
@@ -273,3 +285,4 @@ def _configuration(path: Path, components: dict[str, FabricComponent], channels:
                                                         _where(element, file)))
         elif element.tag == "io_buffer":
             channels.append((_required(element, "alias", file), _required(element, "name", file)))
+    return FabricConfiguration(path.stem, tuple(channels), _where(root, file))

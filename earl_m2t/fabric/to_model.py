@@ -19,40 +19,30 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from earl_m2t.diagnostics import ModelReadError
-from earl_m2t.fabric.conditions import ConditionError, parse_fabric_condition
+from earl_m2t.fabric.fsm import FsmBuilder
 from earl_m2t.fabric.package import FabricPackage, Where
 from earl_m2t.lift.conditions import resolve_subsystem
 from earl_m2t.lift.structure import computed_agent_type
-from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
-    Activation,
     Agent,
-    BasicBehaviour,
     Buffer,
     BufferGroup,
     EarlModel,
-    Fsm,
     Link,
     PartialFunction,
     PrimitivePredicate,
     Robot,
     Simulation,
-    State,
     Subsystem,
     System,
-    Transition,
 )
 from earl_m2t.model.kinds import SUBSYSTEM_KINDS, DataTypeKind, Direction, LinkScope, SubsystemKind
 from earl_m2t.model.location import Location
-from earl_m2t.predicate import format_predicate
 
-PREDICATE_CALL = re.compile(r"([A-Za-z_][A-Za-z0-9_]*/pp)\b")
 DIALECT = "fabric"
 RECOGNISED = "suffix"
-LANGUAGE = "EARL"
 CODE = "C++"
-COMPOSED = "__"  # joins the names of the behaviours a state runs side by side
 
 
 @dataclass(frozen=True)
@@ -106,15 +96,19 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
     agents: dict[str, list[Subsystem]] = {}
     named, notes = agent_names(packages)
     types = message_types(packages)
+    placed: list[tuple[Subsystem, tuple[tuple[str, str], ...]]] = []
     for package in packages:
-        names = named[package.name]
-        subsystem = _subsystem(package, names, datatypes, types)
-        if any(s.name == names.part for s in agents.get(names.agent, [])):
-            raise ModelReadError(package.spec_file, f"a second subsystem {names.agent}.{names.part} "
-                                 f"(package {package.name}) among the imported packages")
-        agents.setdefault(names.agent, []).append(subsystem)
+        instances, instance_notes = instances_of(package, named[package.name])
+        notes += instance_notes
+        for names, channels in instances:
+            subsystem = _subsystem(package, names, datatypes, types, channels if len(instances) == 1 else ())
+            if any(s.name == names.part for s in agents.get(names.agent, [])):
+                raise ModelReadError(package.spec_file, f"a second subsystem {names.agent}.{names.part} "
+                                     f"(package {package.name}) among the imported packages")
+            agents.setdefault(names.agent, []).append(subsystem)
+            placed.append((subsystem, channels))
     first = _location(packages[0].where) if packages else Location("<fabric>")
-    links = _links(packages, agents)
+    links = _links(placed)
     built: list[Agent] = []
     built_paths: list[str] = []
     for agent_name, subsystems in agents.items():
@@ -136,6 +130,39 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
     return EarlModel(file=first.file, dialect=DIALECT, name=name, systems=(system,), datatypes=datatypes), notes
 
 
+def instances_of(package: FabricPackage, names: _Names) -> tuple[list[tuple[_Names, tuple[tuple[str, str], ...]]],
+                                                                list[str]]:
+    """The subsystem instances of a package, each with the channels of its buffers: one, or, when
+    its configurations give its buffers other channels, one per configuration (FABRIC's deployer
+    runs a subsystem per configuration file), each the control subsystem of an agent named after
+    the configuration; and notes on what was decided."""
+    aliases = {b.alias for b in package.buffers}
+    distinct: list[tuple[str, tuple[tuple[str, str], ...]]] = []
+    notes: list[str] = []
+    for configuration in package.configurations:
+        channels = tuple((alias, channel) for alias, channel in configuration.channels if alias in aliases)
+        same = next((name for name, earlier in distinct if set(earlier) == set(channels)), None)
+        if not channels:
+            continue
+        if same is not None:
+            notes.append(f"{package.name}: configuration {configuration.name} gives the buffers the channels "
+                         f"configuration {same} gives them: one subsystem for both")
+            continue
+        distinct.append((configuration.name, channels))
+    if len(distinct) <= 1:
+        return [(names, distinct[0][1] if distinct else ())], notes
+    notes.append(f"{package.name}: configurations {', '.join(n for n, _ in distinct)} give its buffers other "
+                 "channels: a subsystem of its definition for each, the control subsystem of an agent named "
+                 "after the configuration")
+    return [(_Names(_identifier(name), SubsystemKind.CS, "cs"), channels) for name, channels in distinct], notes
+
+
+def _identifier(name: str) -> str:
+    """A configuration's file name as an agent's name (``velma_core_re (kopia)`` → ``velma_core_re__kopia_``)."""
+    text = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    return text if re.match(r"[A-Za-z]", text) else f"c_{text}"
+
+
 def message_types(packages: Sequence[FabricPackage]) -> dict[str, str]:
     """The dataType key of every ROS message type the packages name: ``pkg::Msg``, or, when
     another package has a message of that name too, ``pkg::pkg_Msg`` (generated code holds
@@ -152,7 +179,7 @@ def message_types(packages: Sequence[FabricPackage]) -> dict[str, str]:
 
 
 def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataType],
-               message_types: dict[str, str]) -> Subsystem:
+               message_types: dict[str, str], channels: tuple[tuple[str, str], ...]) -> Subsystem:
     path = f"{names.agent}.{names.part}"
     buffers: list[Buffer] = []
     for buf in package.buffers:
@@ -164,7 +191,8 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         buffer_name = f"{buf.alias}/{suffix}"
         buffers.append(Buffer(name=buffer_name, path=f"{path}.{buffer_name}", direction=Direction(buf.direction),
                               datatype=key, template=buffer_name, index=0, location=_location(buf.where),
-                              recognised_by=RECOGNISED, side=buf.side, converter=buf.converter))
+                              recognised_by=RECOGNISED, side=buf.side, converter=buf.converter,
+                              channel=dict(reversed(channels)).get(buf.alias, "")))
     inputs = {b.name.partition("/")[0]: b for b in buffers if b.direction == "in"}
     groups = tuple(BufferGroup(name=g.name, path=f"{path}.{g.name}",
                                obligatory=tuple(inputs[a].name for a in g.obligatory),
@@ -184,96 +212,25 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         location=_location(next(b.where for b in package.behaviours if r in b.running)),
         recognised_by=RECOGNISED) for r in running)
 
-    def condition(text: str, where: Where, owner: str, role: ConditionRole, what: str) -> Condition:
-        try:
-            expr = parse_fabric_condition(text, predicate_names)
-        except ConditionError as exc:
-            raise ModelReadError(where.file, f"{what}: {exc}", where.line) from None
-        # the paper's form, x/pp.fun, which SysML v2 text writes as a call: 'x/pp'()
-        text = PREDICATE_CALL.sub(r"\1.fun", format_predicate(expr))
-        return Condition(text, LANGUAGE, _location(where), owner, role)
-
-    def behaviour(name: str, stop_cond: str, err_cond: str, running: tuple[str, ...], where: Where,
-                  what: str) -> BasicBehaviour:
-        bb_path = f"{path}.{name}/bb"
-        return BasicBehaviour(
-            name=f"{name}/bb", path=bb_path,
-            tc=condition(stop_cond, where, bb_path, ConditionRole.TC, f"{what} stop_cond"),
-            ec=condition(err_cond, where, bb_path, ConditionRole.EC, f"{what} err_cond"),
-            stages=((tuple(f"{r}/pf" for r in running),) if running else ()), activity_problems=(),
-            location=_location(where), recognised_by=RECOGNISED)
-
-    behaviours = [behaviour(b.name, b.stop_cond, b.err_cond, b.running, b.where, f"behavior '{b.name}'")
-                  for b in package.behaviours]
-    by_name = {b.name: b for b in package.behaviours}
-    fsm_path = f"{path}.fsm"
-    states: list[State] = []
-    for s in package.states:
-        composes: tuple[str, ...] = ()
-        own = tuple(f"{b}/bb" for b in s.behaviours)
-        if len(s.behaviours) > 1:
-            # FABRIC runs them side by side: the state ends when one's err_cond (else one's
-            # stop_cond) holds, the components of all run (master_component.cpp, updateHook)
-            composes, name = own, _composed_name(s.behaviours, set(by_name))
-            if all(b.name != f"{name}/bb" for b in behaviours):
-                parts = [by_name[b] for b in s.behaviours]
-                behaviours.append(behaviour(
-                    name, " or ".join(f"({p.stop_cond})" for p in parts),
-                    " or ".join(f"({p.err_cond})" for p in parts),
-                    tuple(dict.fromkeys(r for p in parts for r in p.running)), s.where,
-                    f"state '{s.name}' behaviors"))
-            own = (f"{name}/bb",)
-        states.append(State(name=s.name, path=f"{fsm_path}.{s.name}", behaviours=own, location=_location(s.where),
-                            activation=Activation(group=s.group.name, min_period=s.group.min_period,
-                                                  first_timeout=s.group.first_timeout,
-                                                  next_timeout=s.group.next_timeout,
-                                                  min_period_sim=s.group.min_period_sim,
-                                                  first_timeout_sim=s.group.first_timeout_sim,
-                                                  used_time=s.group.used_time),
-                            composes=composes, exclusive_guards=len(s.next_states) > 1))
-    transitions: list[Transition] = []
-    for s in package.states:
-        for target, text, where in s.next_states:
-            name = f"{s.name},{target}/t"
-            transitions.append(Transition(
-                name=name, path=f"{fsm_path}.{name}", source=s.name, target=target, source_foreign=False,
-                target_foreign=False,
-                condition=condition(text, where, f"{fsm_path}.{name}", ConditionRole.IC,
-                                    f"state '{s.name}' next_state '{target}'"),
-                priority=0, order=len(transitions), location=_location(where)))
-    fsm = Fsm(name="fsm", path=fsm_path, states=tuple(states), transitions=tuple(transitions),
-              initial_states=(package.initial,), location=_location(package.where))
+    fsm, behaviours = FsmBuilder(package, path, predicate_names).build()
     return resolve_subsystem(Subsystem(
         name=names.part, path=path, kind=names.kind, agent=names.agent, block=package.name,
         block_id=package.name, template=names.part, index=0,
         inputs=tuple(b for b in buffers if b.direction == "in"),
-        outputs=tuple(b for b in buffers if b.direction == "out"), memory=(), fsm=fsm, behaviours=tuple(behaviours),
+        outputs=tuple(b for b in buffers if b.direction == "out"), memory=(), fsm=fsm, behaviours=behaviours,
         functions=functions, predicates=predicates, exclusions=(), fsm_count=1, location=_location(package.where),
         recognised_by="stereotype", buffer_groups=groups,
         simulation=(Simulation(package.simulation.use_ros_sim_clock, package.simulation.use_sim_clock,
                                package.simulation.trigger_gazebo) if package.simulation else None)), datatypes)
 
 
-def _composed_name(parts: tuple[str, ...], taken: set[str]) -> str:
-    """The name of the basic behaviour composing FABRIC's behaviours ``parts``: their names
-    joined (an identifier, as generated code needs), distinct from FABRIC's own behaviours."""
-    name = COMPOSED.join(parts)
-    candidate, n = name, 1
-    while candidate in taken:
-        n += 1
-        candidate = f"{name}_{n}"
-    return candidate
-
-
-def _links(packages: Sequence[FabricPackage], agents: dict[str, list[Subsystem]]) -> list[Link]:
-    """A link from every output to every input of another package on the same IPC channel."""
-    subsystems = {s.block: s for subs in agents.values() for s in subs}
+def _links(placed: list[tuple[Subsystem, tuple[tuple[str, str], ...]]]) -> list[Link]:
+    """A link from every output to every input of another subsystem on the same IPC channel."""
     writers: dict[str, list[tuple[Subsystem, Buffer]]] = {}
     readers: dict[str, list[tuple[Subsystem, Buffer]]] = {}
-    for package in packages:
-        sub = subsystems[package.name]
+    for sub, channels in placed:
         by_alias = {(b.name.partition("/")[0], b.direction): b for b in sub.buffers}
-        for alias, channel in package.channels:
+        for alias, channel in channels:
             for direction, table in ((Direction.OUT, writers), (Direction.IN, readers)):
                 buf = by_alias.get((alias, direction))
                 if buf is not None:

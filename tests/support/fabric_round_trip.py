@@ -17,6 +17,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,7 +36,7 @@ class RoundTrip:
     failures: list[str] = field(default_factory=list)
 
     def step(self, ok: bool, text: str) -> bool:
-        self.steps.append(f"{'ok  ' if ok else 'FAIL'} {text}")
+        self.steps.append(f"{'ok  ' if ok else 'FAIL'} {text}".rstrip())
         if not ok:
             self.failures.append(text)
         return ok
@@ -47,9 +48,12 @@ def earl(*args: str) -> subprocess.CompletedProcess[str]:
 
 
 def regenerated_spec(package: str, out: Path) -> Path:
-    """The regenerated spec of an imported package: an agent of its own name has it as ``cs``."""
-    spec = out / "fabric" / package / "spec" / "subsystem.xml"
-    return spec if spec.is_file() else out / "fabric" / f"{package}_cs" / "spec" / "subsystem.xml"
+    """The regenerated spec of an imported package: the one whose subsystem definition (its
+    block, named in the spec's heading comment) is the package."""
+    for spec in sorted(out.glob("fabric/*/spec/subsystem.xml")):
+        if f"({package})" in spec.read_text(encoding="utf-8").partition("-->")[0]:
+            return spec
+    return out / "fabric" / package / "spec" / "subsystem.xml"
 
 
 CPP_CONDITION = re.compile(r"(\s|\(|\)|!|&&|\|\||true|false|p->[A-Za-z_][A-Za-z0-9_]*)*")
@@ -69,6 +73,17 @@ def unusable_conditions(spec: Any) -> list[str]:
         if CPP_CONDITION.fullmatch(cpp) is None:
             found.append(f"{where} {text!r} -> {cpp!r}")
     return found
+
+
+def io_channels(configurations: list[Path], aliases: set[str]) -> dict[str, list[str]]:
+    """The IPC channels every spec buffer alias is given by the configurations (one each per
+    subsystem instance, that is per configuration)."""
+    found: dict[str, set[str]] = {}
+    for path in configurations:
+        for element in ElementTree.parse(path).getroot().iter("io_buffer"):
+            if element.get("alias") in aliases:
+                found.setdefault(element.get("alias", ""), set()).add(element.get("name", ""))
+    return {alias: sorted(names) for alias, names in sorted(found.items())}
 
 
 def round_trip(folders: list[Path], work: Path) -> RoundTrip:
@@ -100,7 +115,13 @@ def round_trip(folders: list[Path], work: Path) -> RoundTrip:
         for config in sorted(spec.parent.parent.glob("config/*.xml")):
             problems = fabric.configuration_problems(config, again)
             result.step(not problems, f"{folder.name}: {config.name} {'; '.join(problems) or 'as runXmls() reads it'}")
-        found = differences(fabric.parse_spec(folder / "spec" / "subsystem.xml"), again)
+        original = fabric.parse_spec(folder / "spec" / "subsystem.xml")
+        aliases = {b.alias for b in original.buffers_in + original.buffers_out}
+        channels = (io_channels(sorted(folder.glob("config/*.xml")), aliases),
+                    io_channels(sorted(spec.parent.parent.glob("config/*.xml")), aliases))
+        result.step(channels[0] == channels[1], f"{folder.name}: the configurations' <io_buffer> channels "
+                    + ("are the same" if channels[0] == channels[1] else f"differ: {channels[0]} != {channels[1]}"))
+        found = differences(original, again)
         result.step(not found, f"{folder.name}: equal element by element" if not found
                     else f"{folder.name}: differs: " + "; ".join(found))
     return result

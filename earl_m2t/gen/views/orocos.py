@@ -240,6 +240,9 @@ class _Builder:
         # the channel a buffer names (import fabric carries FABRIC's <io_buffer name>), else one of its own
         carried = {".".join(self.port_of[buf.path]): buf.channel
                    for sub in self.model.subsystems for buf in sub.buffers if buf.channel and buf.path in self.port_of}
+        for connection in links:  # an output without a channel of its own writes the one its reader names
+            if connection.get("variable", -1) < 0 and connection["to"] in carried:
+                carried.setdefault(connection["from"], carried[connection["to"]])
         alias_of = {f"{i['name']}.{b['port']}": carried.get(f"{i['name']}.{b['port']}", f"{i['name']}_{b['alias']}")
                     for i, _ in placed for b in i["buffers"]}
         for connection in links:
