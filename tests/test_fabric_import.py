@@ -1,8 +1,7 @@
 """earl-m2t import fabric: Velma's real FABRIC packages (../shared/fabric/examples) import, check
 without errors, and regenerate through gen --target orocos into specs that FABRIC's own parser
-accepts and that equal the originals element by element, except what EARL does not carry
-(docs/fabric-import.md, "What is not carried"). Bad FABRIC input is one line with file and line,
-exit 2."""
+accepts and that equal the originals element by element (tests/support/fabric_compare.py). Bad
+FABRIC input is one line with file and line, exit 2."""
 
 from __future__ import annotations
 
@@ -11,20 +10,17 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
-from typing import Any
 
 import pytest
 
 from earl_m2t.fabric import packages_to_model, read_package
-from earl_m2t.fabric.conditions import parse_fabric_condition
 from earl_m2t.gen import render
 from tests.support import fabric
+from tests.support.fabric_compare import differences
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ["velma_system/velma_core_ve_body", "velma_system/velma_task_cs_ros_interface",
             "velma_pred_ctrl_interface"]
-# what FABRIC says that an EARL model does not hold (docs/fabric-import.md)
-NOT_CARRIED = {"side", "converter", "min_period_sim", "first_timeout_sim", "used_time", "simulation"}
 
 
 def earl(*args: str) -> subprocess.CompletedProcess[str]:
@@ -36,43 +32,6 @@ def folders() -> list[Path]:
     found = [fabric.EXAMPLES / p for p in PACKAGES]
     if not all((f / "spec" / "subsystem.xml").is_file() for f in found):
         pytest.skip("FABRIC's examples (../shared/fabric/examples) are not beside the checkout")
-    return found
-
-
-def condition(text: str, predicates: list[str]) -> Any:
-    return parse_fabric_condition(text, {p: p for p in predicates})
-
-
-def differences(original: Any, regenerated: Any) -> list[str]:
-    """Element-by-element differences of two parsed specs (FABRIC's SubsystemDefinition), the
-    conditions compared as expressions, what EARL does not carry left out."""
-    found: list[str] = []
-
-    def same(what: str, a: Any, b: Any) -> None:
-        if a != b:
-            found.append(f"{what}: {a!r} != {b!r}")
-
-    for kind in ("buffers_in", "buffers_out"):
-        same(kind, [(b.alias, b.getTypeCpp()) for b in getattr(original, kind)],
-             [(b.alias, b.getTypeCpp()) for b in getattr(regenerated, kind)])
-    same("buffer_groups", [(g.name, g.obligatory, g.optional) for g in original.buffer_groups],
-         [(g.name, g.obligatory, g.optional) for g in regenerated.buffer_groups])
-    same("predicates", original.predicates, regenerated.predicates)
-    same("initial", original.initial_state_name, regenerated.initial_state_name)
-    same("behaviors", [b.name for b in original.behaviors], [b.name for b in regenerated.behaviors])
-    for a, b in zip(original.behaviors, regenerated.behaviors):
-        same(f"{a.name} running", a.running_components, b.running_components)
-        for attribute in ("stop_cond", "err_cond"):
-            same(f"{a.name} {attribute}", condition(getattr(a, attribute), original.predicates),
-                 condition(getattr(b, attribute), regenerated.predicates))
-    same("states", [s.name for s in original.states], [s.name for s in regenerated.states])
-    for a, b in zip(original.states, regenerated.states):
-        same(f"{a.name} behaviors", a.behaviors, b.behaviors)
-        same(f"{a.name} next", [(n, condition(c, original.predicates)) for n, c in a.next_states],
-             [(n, condition(c, regenerated.predicates)) for n, c in b.next_states])
-        for attribute in ("buffer_group_name", "buffer_group_min_period", "buffer_group_first_timeout",
-                          "buffer_group_next_timeout"):
-            same(f"{a.name} {attribute}", getattr(a, attribute), getattr(b, attribute))
     return found
 
 
@@ -165,12 +124,14 @@ def test_importing_again_writes_nothing_and_keeps_an_edited_model(imported: Path
      "names 'status', which is no <in> buffer"),
     ("spec/subsystem.xml", 'stop_cond="FALSE"', 'stop_cond="FALSE and"',
      "behavior 'normal' stop_cond: the condition ends too early"),
-    ("spec/subsystem.xml", 'err_cond="FALSE"', 'err_cond="IN_ERROR"',
-     "IN_ERROR (a FABRIC run-time flag) has no EARL counterpart"),
+    ("spec/subsystem.xml", 'err_cond="FALSE"', 'err_cond="IN_ERROR)"', "unexpected ')'"),
     ("spec/subsystem.xml", '<states initial="normal">', '<states initial="start">',
      "the initial state 'start' is not a <state>"),
     ("spec/subsystem.xml", 'type="velma_core_cs_task_cs_msgs::Status"', 'type="Status"', "is not 'package::Message'"),
     ("spec/subsystem.xml", "</subsystem_definition>", "", "not well-formed XML"),
+    ("spec/subsystem.xml", 'use_sim_clock="true"', 'use_sim_clock="yes"',
+     "<simulation> use_sim_clock='yes' is neither true nor false"),
+    ("spec/subsystem.xml", 'use_ros_sim_clock="true" ', "", "<simulation> must have the attribute 'use_ros_sim_clock'"),
     ("spec/subsystem.xml", 'stop_cond="FALSE"', 'stop_cond="ready"',
      "'ready' is not a <predicate> of the subsystem"),
     ("config/velma_pred_ctrl_interface.xml", '<io_buffer alias="st" name="velma_core_st2" />',

@@ -13,14 +13,20 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from earl_m2t.convert.names import expression, qualified, quoted
+from earl_m2t.convert.tags import (
+    activation_tags,
+    buffer_tags,
+    composition_tags,
+    names_string,
+    simulation_tags,
+    string_literal,
+)
 from earl_m2t.lift.recognise import suffix_of
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
-    Activation,
     Agent,
     BasicBehaviour,
-    Buffer,
     Configuration,
     EarlModel,
     Group,
@@ -66,7 +72,7 @@ class _View:
         if self.model.systems and self.model.properties:
             definition = self.blocks.get(self.model.systems[0].name)
             if definition is not None:
-                definition.lines.extend(f"metadata {quoted(p.title)} : Ltl {{ formula = {_string_literal(p.text)}; }}"
+                definition.lines.extend(f"metadata {quoted(p.title)} : Ltl {{ formula = {string_literal(p.text)}; }}"
                                         for p in self.model.properties)
         return {
             "model": quoted(self.model.name or "Model"),
@@ -205,11 +211,12 @@ class _View:
         if definition is None:
             return
         lines = definition.lines
+        lines.extend(simulation_tags(subsystem.simulation, concept))
         for buffers, buffer_concept in ((subsystem.inputs, "InputBuffer"), (subsystem.outputs, "OutputBuffer")):
             for template, group in _grouped(buffers, lambda b: b.template):
                 size = f"[{len(group)}]" if group[0].index else ""
                 body = [f"attribute :>> msg : {self.type_name(group[0].datatype)};"] if group[0].datatype else []
-                body += _receive(group[0])
+                body += buffer_tags(group[0], buffer_concept)
                 message = f" {{ {' '.join(body)} }}" if body else ";"
                 lines.append(f"port {quoted(template)} : {buffer_concept}{size}{message}")
         for template, group in _grouped(subsystem.memory, lambda m: m.template):
@@ -222,7 +229,7 @@ class _View:
             head = f"metadata {quoted(exclusion.name)} : Exclusive" if exclusion.name else "@Exclusive"
             lines.append(f"{head} about {about};")
         for buffer_group in subsystem.buffer_groups:
-            obligatory, optional = _string(buffer_group.obligatory), _string(buffer_group.optional)
+            obligatory, optional = names_string(buffer_group.obligatory), names_string(buffer_group.optional)
             lines.append(f"metadata {quoted(buffer_group.name)} : Group {{ obligatory = {obligatory}; "
                          f"optional = {optional}; }}")
         for predicate in subsystem.predicates:
@@ -276,7 +283,7 @@ class _View:
         return lines + ["}"]
 
     def state(self, subsystem: Subsystem, state: State, shared: set[str]) -> list[str]:
-        activation = _activation(state.activation) + _state_variability(state)
+        activation = activation_tags(state.activation) + _state_variability(state) + composition_tags(state)
         if not state.behaviours and not activation:
             return [f"state {quoted(state.name)};"]
         lines = [f"state {quoted(state.name)} {{"] + [f"    {line}" for line in activation]
@@ -400,35 +407,14 @@ def _representation(language: str, body: str) -> list[str]:
     return [f'language "{escaped}"', "/*"] + [f" * {line}".rstrip() for line in lines] + [" */"]
 
 
-def _string(names: tuple[str, ...]) -> str:
-    return '"' + " ".join(names) + '"'
-
-
-def _receive(buffer: Buffer) -> list[str]:
-    """``@Receive { … }`` of an Input Buffer that does not keep EARL's latest value."""
-    if buffer.direction != "in" or (buffer.receive == "latest" and not buffer.queue_size):
-        return []
-    return [f"@Receive {{ receive = ReceiveMode::{buffer.receive}; queueSize = {buffer.queue_size}; }}"]
-
-
-def _activation(activation: Activation) -> list[str]:
-    """``@Activation { … }`` of a state that says when its subsystem iterates."""
-    tags = [f'bufferGroup = "{activation.group}";'] if activation.group else []
-    for tag, value in (("minPeriod", activation.min_period), ("firstTimeout", activation.first_timeout),
-                       ("nextTimeout", activation.next_timeout)):
-        if value is not None:
-            tags.append(f"{tag} = {value!r};")
-    return [f"@Activation {{ {' '.join(tags)} }}"] if tags else []
-
-
 def _optional(agent: Agent) -> str:
     return "[0..1]" if agent.optional else ""
 
 
 def _configuration(configuration: Configuration) -> str:
     """``metadata useA : Structure { … }`` of a System: the names as the model gives them."""
-    tags = [f"agents = {_string(configuration.agents + configuration.unknown_agents)};",
-            f"links = {_string(configuration.links + configuration.unknown_links)};"]
+    tags = [f"agents = {names_string(configuration.agents + configuration.unknown_agents)};",
+            f"links = {names_string(configuration.links + configuration.unknown_links)};"]
     if configuration.switch_timeout is not None:
         tags.append(f"switchTimeout = {configuration.switch_timeout!r};")
     return f"metadata {quoted(configuration.name)} : Structure {{ {' '.join(tags)} }}"
@@ -437,10 +423,5 @@ def _configuration(configuration: Configuration) -> str:
 def _state_variability(state: State) -> list[str]:
     lines = []
     if state.configuration:
-        lines.append(f"@Reconfigure {{ configuration = {_string_literal(state.configuration)}; }}")
+        lines.append(f"@Reconfigure {{ configuration = {string_literal(state.configuration)}; }}")
     return lines + (["@Quiescent;"] if state.quiescent else [])
-
-
-def _string_literal(text: str) -> str:
-    """A SysML v2 string literal."""
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'

@@ -2,17 +2,19 @@
 
 The grammar ``logicExprToCpp`` accepts: predicate names, ``TRUE``, ``FALSE``, ``and``, ``or``,
 ``not``, parentheses; C++'s precedence applies to what it makes (not, then and, then or).
-``IN_ERROR`` and ``CURRENT_BEHAVIOR_OK`` (FABRIC's own run-time flags) have no EARL meaning.
+FABRIC's run-time flags ``IN_ERROR`` and ``CURRENT_BEHAVIOR_OK`` are EARL's built-ins
+``inError()`` and ``behaviourOk()``.
 """
 
 from __future__ import annotations
 
 import re
 
-from earl_m2t.predicate import And, Const, Expr, Not, Or, PredicateRef
+from earl_m2t.predicate import And, BuiltIn, BuiltInPredicate, Const, Expr, Not, Or, PredicateRef
 
 TOKEN = re.compile(r"\s*(?:(\()|(\))|([A-Za-z_][A-Za-z0-9_]*))")
-UNSUPPORTED = ("IN_ERROR", "CURRENT_BEHAVIOR_OK")
+# FABRIC's run-time flags (create_master_cpp.py adds them to every predicate list)
+FLAGS = {"IN_ERROR": BuiltInPredicate.IN_ERROR, "CURRENT_BEHAVIOR_OK": BuiltInPredicate.BEHAVIOUR_OK}
 
 
 class ConditionError(Exception):
@@ -89,8 +91,8 @@ class _Parser:
             return expr
         if token in ("TRUE", "FALSE"):
             return Const(token == "TRUE")
-        if token in UNSUPPORTED:
-            raise ConditionError(f"{token} (a FABRIC run-time flag) has no EARL counterpart")
+        if token in FLAGS:
+            return BuiltIn(FLAGS[token])
         if token in self.predicates:
             return PredicateRef(self.predicates[token])
         raise ConditionError(f"'{token}' is not a <predicate> of the subsystem")

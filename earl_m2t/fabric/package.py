@@ -75,10 +75,24 @@ class FabricState:
 
 
 @dataclass(frozen=True)
+class FabricSimulation:
+    use_ros_sim_clock: bool
+    use_sim_clock: bool
+    trigger_gazebo: bool | None  # None: not given
+
+
+@dataclass(frozen=True)
 class FabricComponent:
     name: str
     type: str
     running: bool
+    where: Where
+
+
+@dataclass(frozen=True)
+class FabricConfiguration:
+    name: str  # the file's name without .xml: FABRIC's deployer runs one subsystem per file
+    channels: tuple[tuple[str, str], ...]  # (alias, IPC channel name) of its <io_buffer>s
     where: Where
 
 
@@ -94,7 +108,13 @@ class FabricPackage:
     initial: str
     where: Where
     components: tuple[FabricComponent, ...]  # of every configuration, first declaration wins
-    channels: tuple[tuple[str, str], ...]  # (alias, IPC channel name) of the configurations
+    configurations: tuple[FabricConfiguration, ...]  # in file name order
+    simulation: FabricSimulation | None = None
+
+    @property
+    def channels(self) -> tuple[tuple[str, str], ...]:
+        """(alias, IPC channel name) of every configuration."""
+        return tuple(c for configuration in self.configurations for c in configuration.channels)
 
 
 def read_package(folder: Path) -> FabricPackage:
@@ -118,15 +138,15 @@ def read_package(folder: Path) -> FabricPackage:
     initial = _required(states_element, "initial", file)
     states = tuple(_state(e, file) for e in states_element if e.tag == "state")
     _check_references(file, groups, behaviours, states, initial, states_element)
+    simulation = _simulation(root, file)
     components: dict[str, FabricComponent] = {}
-    channels: list[tuple[str, str]] = []
     config = folder / CONFIG
-    for path in sorted(config.glob("*.xml")) if config.is_dir() else []:
-        _configuration(path, components, channels)
+    configurations = tuple(_configuration(path, components)
+                           for path in (sorted(config.glob("*.xml")) if config.is_dir() else []))
     return FabricPackage(name=folder.resolve().name, spec_file=file, buffers=buffers, groups=groups,
                          predicates=predicates, behaviours=behaviours, states=states, initial=initial,
                          where=_where(root, file), components=tuple(components.values()),
-                         channels=tuple(channels))
+                         configurations=configurations, simulation=simulation)
 
 
 def _where(element: etree._Element, file: str) -> Where:
@@ -209,6 +229,28 @@ def _state(element: etree._Element, file: str) -> FabricState:
         where=_where(element, file))
 
 
+def _simulation(root: etree._Element, file: str) -> FabricSimulation | None:
+    """``<simulation use_ros_sim_clock use_sim_clock [trigger_gazebo]>``, read as FABRIC does."""
+    found = list(root.iter("simulation"))
+    if len(found) > 1:
+        raise _fail(found[1], file, "FABRIC wants at most one <simulation>")
+    if not found:
+        return None
+    element = found[0]
+    return FabricSimulation(bool(_boolean(element, "use_ros_sim_clock", file, True)),
+                            bool(_boolean(element, "use_sim_clock", file, True)),
+                            _boolean(element, "trigger_gazebo", file, False))
+
+
+def _boolean(element: etree._Element, attribute: str, file: str, required: bool) -> bool | None:
+    text = _required(element, attribute, file) if required else element.get(attribute, "")
+    if not text:
+        return None
+    if text.upper() not in ("TRUE", "FALSE"):
+        raise _fail(element, file, f"<{element.tag}> {attribute}='{text}' is neither true nor false")
+    return text.upper() == "TRUE"
+
+
 def _check_references(file: str, groups: tuple[FabricGroup, ...], behaviours: tuple[FabricBehaviour, ...],
                       states: tuple[FabricState, ...], initial: str, element: etree._Element) -> None:
     group_names = {g.name for g in groups}
@@ -229,8 +271,9 @@ def _check_references(file: str, groups: tuple[FabricGroup, ...], behaviours: tu
                 raise ModelReadError(file, f"state '{state.name}' has the unknown next state '{target}'", where.line)
 
 
-def _configuration(path: Path, components: dict[str, FabricComponent], channels: list[tuple[str, str]]) -> None:
+def _configuration(path: Path, components: dict[str, FabricComponent]) -> FabricConfiguration:
     file = str(path)
+    channels: list[tuple[str, str]] = []
     root = parse_xml_file(path).getroot()
     if root.tag != "subsystem_configuration":
         raise _fail(root, file, f"the root is <{root.tag}>, FABRIC's deployer wants <subsystem_configuration>")
@@ -242,3 +285,4 @@ def _configuration(path: Path, components: dict[str, FabricComponent], channels:
                                                         _where(element, file)))
         elif element.tag == "io_buffer":
             channels.append((_required(element, "alias", file), _required(element, "name", file)))
+    return FabricConfiguration(path.stem, tuple(channels), _where(root, file))

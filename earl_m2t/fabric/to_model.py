@@ -19,37 +19,29 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from earl_m2t.diagnostics import ModelReadError
-from earl_m2t.fabric.conditions import ConditionError, parse_fabric_condition
+from earl_m2t.fabric.fsm import FsmBuilder
 from earl_m2t.fabric.package import FabricPackage, Where
 from earl_m2t.lift.conditions import resolve_subsystem
 from earl_m2t.lift.structure import computed_agent_type
-from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import (
-    Activation,
     Agent,
-    BasicBehaviour,
     Buffer,
     BufferGroup,
     EarlModel,
-    Fsm,
     Link,
     PartialFunction,
     PrimitivePredicate,
     Robot,
-    State,
+    Simulation,
     Subsystem,
     System,
-    Transition,
 )
 from earl_m2t.model.kinds import SUBSYSTEM_KINDS, DataTypeKind, Direction, LinkScope, SubsystemKind
 from earl_m2t.model.location import Location
-from earl_m2t.predicate import format_predicate
 
-PREDICATE_CALL = re.compile(r"([A-Za-z_][A-Za-z0-9_]*/pp)\b")
 DIALECT = "fabric"
 RECOGNISED = "suffix"
-LANGUAGE = "EARL"
 CODE = "C++"
 
 
@@ -104,15 +96,19 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
     agents: dict[str, list[Subsystem]] = {}
     named, notes = agent_names(packages)
     types = message_types(packages)
+    placed: list[tuple[Subsystem, tuple[tuple[str, str], ...]]] = []
     for package in packages:
-        names = named[package.name]
-        subsystem = _subsystem(package, names, datatypes, types)
-        if any(s.name == names.part for s in agents.get(names.agent, [])):
-            raise ModelReadError(package.spec_file, f"a second subsystem {names.agent}.{names.part} "
-                                 f"(package {package.name}) among the imported packages")
-        agents.setdefault(names.agent, []).append(subsystem)
+        instances, instance_notes = instances_of(package, named[package.name])
+        notes += instance_notes
+        for names, channels in instances:
+            subsystem = _subsystem(package, names, datatypes, types, channels if len(instances) == 1 else ())
+            if any(s.name == names.part for s in agents.get(names.agent, [])):
+                raise ModelReadError(package.spec_file, f"a second subsystem {names.agent}.{names.part} "
+                                     f"(package {package.name}) among the imported packages")
+            agents.setdefault(names.agent, []).append(subsystem)
+            placed.append((subsystem, channels))
     first = _location(packages[0].where) if packages else Location("<fabric>")
-    links = _links(packages, agents)
+    links = _links(placed)
     built: list[Agent] = []
     built_paths: list[str] = []
     for agent_name, subsystems in agents.items():
@@ -134,6 +130,39 @@ def packages_to_model(packages: Sequence[FabricPackage], name: str) -> tuple[Ear
     return EarlModel(file=first.file, dialect=DIALECT, name=name, systems=(system,), datatypes=datatypes), notes
 
 
+def instances_of(package: FabricPackage, names: _Names) -> tuple[list[tuple[_Names, tuple[tuple[str, str], ...]]],
+                                                                list[str]]:
+    """The subsystem instances of a package, each with the channels of its buffers: one, or, when
+    its configurations give its buffers other channels, one per configuration (FABRIC's deployer
+    runs a subsystem per configuration file), each the control subsystem of an agent named after
+    the configuration; and notes on what was decided."""
+    aliases = {b.alias for b in package.buffers}
+    distinct: list[tuple[str, tuple[tuple[str, str], ...]]] = []
+    notes: list[str] = []
+    for configuration in package.configurations:
+        channels = tuple((alias, channel) for alias, channel in configuration.channels if alias in aliases)
+        same = next((name for name, earlier in distinct if set(earlier) == set(channels)), None)
+        if not channels:
+            continue
+        if same is not None:
+            notes.append(f"{package.name}: configuration {configuration.name} gives the buffers the channels "
+                         f"configuration {same} gives them: one subsystem for both")
+            continue
+        distinct.append((configuration.name, channels))
+    if len(distinct) <= 1:
+        return [(names, distinct[0][1] if distinct else ())], notes
+    notes.append(f"{package.name}: configurations {', '.join(n for n, _ in distinct)} give its buffers other "
+                 "channels: a subsystem of its definition for each, the control subsystem of an agent named "
+                 "after the configuration")
+    return [(_Names(_identifier(name), SubsystemKind.CS, "cs"), channels) for name, channels in distinct], notes
+
+
+def _identifier(name: str) -> str:
+    """A configuration's file name as an agent's name (``velma_core_re (kopia)`` → ``velma_core_re__kopia_``)."""
+    text = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    return text if re.match(r"[A-Za-z]", text) else f"c_{text}"
+
+
 def message_types(packages: Sequence[FabricPackage]) -> dict[str, str]:
     """The dataType key of every ROS message type the packages name: ``pkg::Msg``, or, when
     another package has a message of that name too, ``pkg::pkg_Msg`` (generated code holds
@@ -150,7 +179,7 @@ def message_types(packages: Sequence[FabricPackage]) -> dict[str, str]:
 
 
 def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataType],
-               message_types: dict[str, str]) -> Subsystem:
+               message_types: dict[str, str], channels: tuple[tuple[str, str], ...]) -> Subsystem:
     path = f"{names.agent}.{names.part}"
     buffers: list[Buffer] = []
     for buf in package.buffers:
@@ -162,7 +191,8 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         buffer_name = f"{buf.alias}/{suffix}"
         buffers.append(Buffer(name=buffer_name, path=f"{path}.{buffer_name}", direction=Direction(buf.direction),
                               datatype=key, template=buffer_name, index=0, location=_location(buf.where),
-                              recognised_by=RECOGNISED))
+                              recognised_by=RECOGNISED, side=buf.side, converter=buf.converter,
+                              channel=dict(reversed(channels)).get(buf.alias, "")))
     inputs = {b.name.partition("/")[0]: b for b in buffers if b.direction == "in"}
     groups = tuple(BufferGroup(name=g.name, path=f"{path}.{g.name}",
                                obligatory=tuple(inputs[a].name for a in g.obligatory),
@@ -182,58 +212,25 @@ def _subsystem(package: FabricPackage, names: _Names, datatypes: dict[str, DataT
         location=_location(next(b.where for b in package.behaviours if r in b.running)),
         recognised_by=RECOGNISED) for r in running)
 
-    def condition(text: str, where: Where, owner: str, role: ConditionRole, what: str) -> Condition:
-        try:
-            expr = parse_fabric_condition(text, predicate_names)
-        except ConditionError as exc:
-            raise ModelReadError(where.file, f"{what}: {exc}", where.line) from None
-        # the paper's form, x/pp.fun, which SysML v2 text writes as a call: 'x/pp'()
-        text = PREDICATE_CALL.sub(r"\1.fun", format_predicate(expr))
-        return Condition(text, LANGUAGE, _location(where), owner, role)
-
-    behaviours = tuple(BasicBehaviour(
-        name=f"{b.name}/bb", path=f"{path}.{b.name}/bb",
-        tc=condition(b.stop_cond, b.where, f"{path}.{b.name}/bb", ConditionRole.TC, f"behavior '{b.name}' stop_cond"),
-        ec=condition(b.err_cond, b.where, f"{path}.{b.name}/bb", ConditionRole.EC, f"behavior '{b.name}' err_cond"),
-        stages=((tuple(f"{r}/pf" for r in b.running),) if b.running else ()), activity_problems=(),
-        location=_location(b.where), recognised_by=RECOGNISED) for b in package.behaviours)
-    fsm_path = f"{path}.fsm"
-    states = tuple(State(name=s.name, path=f"{fsm_path}.{s.name}", behaviours=tuple(f"{b}/bb" for b in s.behaviours),
-                         location=_location(s.where),
-                         activation=Activation(group=s.group.name, min_period=s.group.min_period,
-                                               first_timeout=s.group.first_timeout,
-                                               next_timeout=s.group.next_timeout))
-                   for s in package.states)
-    transitions: list[Transition] = []
-    for s in package.states:
-        for target, text, where in s.next_states:
-            name = f"{s.name},{target}/t"
-            transitions.append(Transition(
-                name=name, path=f"{fsm_path}.{name}", source=s.name, target=target, source_foreign=False,
-                target_foreign=False,
-                condition=condition(text, where, f"{fsm_path}.{name}", ConditionRole.IC,
-                                    f"state '{s.name}' next_state '{target}'"),
-                priority=0, order=len(transitions), location=_location(where)))
-    fsm = Fsm(name="fsm", path=fsm_path, states=states, transitions=tuple(transitions),
-              initial_states=(package.initial,), location=_location(package.where))
+    fsm, behaviours = FsmBuilder(package, path, predicate_names).build()
     return resolve_subsystem(Subsystem(
         name=names.part, path=path, kind=names.kind, agent=names.agent, block=package.name,
         block_id=package.name, template=names.part, index=0,
         inputs=tuple(b for b in buffers if b.direction == "in"),
         outputs=tuple(b for b in buffers if b.direction == "out"), memory=(), fsm=fsm, behaviours=behaviours,
         functions=functions, predicates=predicates, exclusions=(), fsm_count=1, location=_location(package.where),
-        recognised_by="stereotype", buffer_groups=groups), datatypes)
+        recognised_by="stereotype", buffer_groups=groups,
+        simulation=(Simulation(package.simulation.use_ros_sim_clock, package.simulation.use_sim_clock,
+                               package.simulation.trigger_gazebo) if package.simulation else None)), datatypes)
 
 
-def _links(packages: Sequence[FabricPackage], agents: dict[str, list[Subsystem]]) -> list[Link]:
-    """A link from every output to every input of another package on the same IPC channel."""
-    subsystems = {s.block: s for subs in agents.values() for s in subs}
+def _links(placed: list[tuple[Subsystem, tuple[tuple[str, str], ...]]]) -> list[Link]:
+    """A link from every output to every input of another subsystem on the same IPC channel."""
     writers: dict[str, list[tuple[Subsystem, Buffer]]] = {}
     readers: dict[str, list[tuple[Subsystem, Buffer]]] = {}
-    for package in packages:
-        sub = subsystems[package.name]
+    for sub, channels in placed:
         by_alias = {(b.name.partition("/")[0], b.direction): b for b in sub.buffers}
-        for alias, channel in package.channels:
+        for alias, channel in channels:
             for direction, table in ((Direction.OUT, writers), (Direction.IN, readers)):
                 buf = by_alias.get((alias, direction))
                 if buf is not None:

@@ -105,6 +105,8 @@ class ExprCompiler:
             return f"({self._operand(node.left)} {node.op} {self._operand(node.right)})"
         if isinstance(node, BuiltIn) and node.name == BuiltInPredicate.LEAVING:
             return "leaving()" if self.switching else "false"  # without configurations nothing leaves
+        if isinstance(node, BuiltIn):
+            return f"{node.name}()"  # inError(), behaviourOk(): the runtime answers them
         if isinstance(node, Replicated):
             raise self._error(f"'{format_predicate(node)}' names no replicated buffer or memory")
         raise self._error(f"unsupported expression {node!r}")

@@ -8,8 +8,8 @@ number as NaN, a queue size as -1) so that rule B011 reports them with their ele
 from __future__ import annotations
 
 from earl_m2t.lift.recognise import Recogniser
-from earl_m2t.lift.tags import literal, names, seconds, tag
-from earl_m2t.model.elements import Activation, BufferGroup
+from earl_m2t.lift.tags import flag, literal, names, seconds, tag
+from earl_m2t.model.elements import Activation, BufferGroup, Simulation
 from earl_m2t.model.kinds import RECEIVE_MODES, ReceiveMode
 from earl_m2t.read.xmi import Element, RawModel
 
@@ -34,7 +34,19 @@ def activation_of(tags: dict[str, str]) -> Activation:
         seconds(tag(tags, "minPeriod")),
         seconds(tag(tags, "firstTimeout")),
         seconds(tag(tags, "nextTimeout")),
+        seconds(tag(tags, "minPeriodSim")),
+        seconds(tag(tags, "firstTimeoutSim")),
+        tag(tags, "usedTime") or "",
     )
+
+
+def simulation_of(tags: dict[str, str]) -> Simulation | None:
+    """FABRIC's ``<simulation>`` a subsystem's tags give, None without them."""
+    ros, sim = tag(tags, "useRosSimClock"), tag(tags, "useSimClock")
+    if ros is None and sim is None:
+        return None
+    gazebo = tag(tags, "triggerGazebo")
+    return Simulation(flag(ros), flag(sim), None if gazebo is None else flag(gazebo))
 
 
 def buffer_groups(raw: RawModel, recogniser: Recogniser, block: Element, path: str) -> tuple[BufferGroup, ...]:
@@ -50,4 +62,4 @@ def buffer_groups(raw: RawModel, recogniser: Recogniser, block: Element, path: s
     return tuple(groups)
 
 
-__all__ = ["activation_of", "buffer_groups", "receive_of"]
+__all__ = ["activation_of", "buffer_groups", "receive_of", "simulation_of"]

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 from earl_m2t.lift.activation import activation_of
 from earl_m2t.lift.recognise import Recogniser, suffix_of
-from earl_m2t.lift.tags import flag, tag
+from earl_m2t.lift.tags import flag, names, tag
 from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.elements import (
     Access,
@@ -219,7 +219,8 @@ class BehaviourLifter:
             behaviours.extend(bbs)
             tags = self.ctx.recogniser.tags(vertex)
             states.append(State(name, f"{fsm_path}.{name}", tuple(b.name for b in bbs), raw.location(vertex),
-                                activation_of(tags), tag(tags, "configuration") or "", flag(tag(tags, "quiescent"))))
+                                activation_of(tags), tag(tags, "configuration") or "", flag(tag(tags, "quiescent")),
+                                names(raw, tag(tags, "behaviours")), flag(tag(tags, "exclusiveGuards"))))
         initial_ids = {id(p) for p in initial_pseudostates}
         initial_states: list[str] = []
         left_initials: set[int] = set()

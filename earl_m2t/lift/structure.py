@@ -6,13 +6,14 @@ from dataclasses import replace
 from functools import partial
 
 from earl_m2t.diagnostics import Diagnostic, Severity
-from earl_m2t.lift.activation import buffer_groups, receive_of
+from earl_m2t.lift.activation import buffer_groups, receive_of, simulation_of
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.conditions import ConditionLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
 from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity, over_bound
+from earl_m2t.lift.tags import tag
 from earl_m2t.lift.variability import configurations, is_optional, reactivation_of
 from earl_m2t.model.elements import (
     Agent,
@@ -275,14 +276,16 @@ class StructureLifter:
                 direction = Direction.IN if concept == "InputBuffer" else Direction.OUT
                 datatype, unresolved = self.types.type_of(attr)
                 count = self._count(attr)
-                receive, queue_size = (receive_of(raw, self.recogniser.tags(attr)) if direction is Direction.IN
+                tags = self.recogniser.tags(attr)
+                receive, queue_size = (receive_of(raw, tags) if direction is Direction.IN
                                        else (ReceiveMode.LATEST, 0))
                 if queue_size > MAX_QUEUE:
                     self._note("R008", Severity.ERROR, f"{path}.{attr_name}: a queue of {queue_size} values, more "
                                f"than the {MAX_QUEUE} earl-m2t generates", attr, f"{path}.{attr_name}")
                 buffers = [
                     Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
-                           recognition.route, unresolved, receive, queue_size)
+                           recognition.route, unresolved, receive, queue_size, tag(tags, "side") or "",
+                           tag(tags, "converter") or "", tag(tags, "channel") or "")
                     for inst, k in expand(attr_name, count)
                 ]
                 ports[id(attr)] = buffers
@@ -325,7 +328,7 @@ class StructureLifter:
             name, path, SubsystemKind(kind), agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,
             tuple(inputs), tuple(outputs), tuple(memory), fsm, tuple(unique), lifter.functions(block),
             predicates, lifter.exclusions(block), len(machines), raw.location(part), route,
-            buffer_groups(raw, self.recogniser, block, path), scope,
+            buffer_groups(raw, self.recogniser, block, path), scope, simulation_of(self.recogniser.tags(block)),
         )
         self._templates[path] = (raw.name(part), name)
         return SubsystemInstance(subsystem, part, ports)

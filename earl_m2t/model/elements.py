@@ -11,6 +11,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 
+from earl_m2t.model.activation import Activation, BufferGroup, Simulation
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.configuration import Configuration
 from earl_m2t.model.datatypes import DataType
@@ -43,6 +44,10 @@ class Buffer:
     # tag's value as written, which B011 reports
     receive: str = ReceiveMode.LATEST
     queue_size: int = 0
+    # FABRIC's <in/out side converter> (tags side, converter): "" when not given
+    side: str = ""
+    converter: str = ""
+    channel: str = ""  # FABRIC's IPC channel of the buffer (<io_buffer name>, tag channel)
 
     @property
     def abbreviation(self) -> str:
@@ -136,29 +141,6 @@ class BasicBehaviour:
 
 
 @dataclass(frozen=True, slots=True)
-class BufferGroup:
-    """FABRIC's buffer group: the Input Buffers an iteration waits for (obligatory) and those it
-    reads when they have new data (optional)."""
-
-    name: str
-    path: str  # subsystem path + "." + name
-    obligatory: tuple[str, ...]  # Input Buffer names as written
-    optional: tuple[str, ...]
-    location: Location
-
-
-@dataclass(frozen=True, slots=True)
-class Activation:
-    """When a subsystem in an FSM state runs an iteration (FABRIC's per-state buffer group).
-    The default, no group, is EARL's free-running period: every input read when present."""
-
-    group: str = ""  # a BufferGroup name of the subsystem, "" for none
-    min_period: float | None = None  # seconds; None: the subsystem's own period
-    first_timeout: float | None = None  # seconds to wait for the obligatory inputs on entry
-    next_timeout: float | None = None  # ... and in later iterations
-
-
-@dataclass(frozen=True, slots=True)
 class State:
     name: str
     path: str
@@ -167,6 +149,11 @@ class State:
     activation: Activation = Activation()
     configuration: str = ""  # the configuration it names (a coordinator's state), "" for none
     quiescent: bool = False  # its agent may be stopped by a switch while it is current
+    # FABRIC's behaviours of a state that runs several side by side (tag behaviours): its one
+    # basic behaviour composes them; () for a state of one behaviour
+    composes: tuple[str, ...] = ()
+    # its guards exclude each other by design (tag exclusiveGuards): FABRIC gets them as written
+    exclusive_guards: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -223,6 +210,7 @@ class Subsystem:
     recognised_by: str
     buffer_groups: tuple[BufferGroup, ...] = ()
     scope: Scope | None = None  # what the names in its conditions stand for; set by the lift
+    simulation: Simulation | None = None  # FABRIC's <simulation> (tags useRosSimClock, ...)
 
     @property
     def buffers(self) -> tuple[Buffer, ...]:

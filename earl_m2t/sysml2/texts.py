@@ -122,7 +122,8 @@ def redefined_values(node: Any) -> dict[str, str]:
 
 
 def tag_value(expression: Any) -> str:
-    """A literal as a tag value: ``AgentType::CET`` → ``CET``, ``2`` → ``2``, ``true``."""
+    """A literal as a tag value: ``AgentType::CET`` → ``CET``, ``2`` → ``2``, ``true``; a
+    string as written (``"pkg::Converter"``)."""
     try:
         value = literal_value(expression)
     except ValueError:
@@ -130,7 +131,7 @@ def tag_value(expression: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
-        return value.rpartition("::")[2]
+        return value if rule(unwrap(expression)) == "LiteralString" else value.rpartition("::")[2]
     return "" if value is None else str(value)
 
 

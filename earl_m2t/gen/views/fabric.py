@@ -99,6 +99,9 @@ def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: 
         buf = next(b for b in sub.buffers if b.template == entry["template"] and b.index == entry["index"])
         entry["alias"] = aliases.take(buf.name)
         entry["buffer"] = buf
+        # as the model says when it says (import fabric carries FABRIC's), else from the links
+        entry["side"] = buf.side or entry["side"]
+        entry["converter"] = _xml(buf.converter)
     inputs = [b for b in buffers if b["direction"] == "in"]
     groups = _groups(sub, inputs, target)
     if not groups:
@@ -116,33 +119,61 @@ def definition_spec(model: EarlModel, sub: Subsystem, buffers: list[Data], pfs: 
     bb_names: dict[str, str] = {}
     behaviours: list[Data] = []
     pf_by_model = {pf["model_name"]: pf for pf in pfs}
+    fsm = sub.fsm
+    assert fsm is not None  # the C++ view refuses a subsystem without an FSM
+    composed = _composed(sub, fsm.states)
     for bb in sub.behaviours:
+        if bb.name in composed:
+            continue
         bb_names[bb.name] = behaviour_names.take(bb.name)
         running = [pf_by_model[name]["component"] for name in bb.functions if name in pf_by_model]
         behaviours.append({"name": bb_names[bb.name], "model": bb.name, "trace": bb.path,
                            "stop_cond": writer.text(bb.tc, False, f"{bb.path} tc"),
                            "err_cond": writer.text(bb.ec, False, f"{bb.path} ec"),
                            "running": list(dict.fromkeys(running))})
-    fsm = sub.fsm
-    assert fsm is not None  # the C++ view refuses a subsystem without an FSM
     transitions = sorted(fsm.transitions, key=lambda t: t.order)
     states: list[Data] = []
     for state in fsm.states:
         leaving = sorted((t for t in transitions if t.source == state.name), key=lambda t: -t.priority)
         next_states: list[Data] = []
         for t in leaving:
-            higher = [writer.expression(h.condition, True, h.path) for h in leaving[:leaving.index(t)]]
+            higher = ([] if state.exclusive_guards else
+                      [writer.expression(h.condition, True, h.path) for h in leaving[:leaving.index(t)]])
             next_states.append({"name": _xml(t.target), "init_cond": writer.guard(t.condition, t.path, higher),
                                 "trace": t.path})
         states.append({
             "trace": state.path, "name": _xml(state.name),
-            "behaviours": [bb_names[b] for b in state.behaviours if b in bb_names],
+            "behaviours": _state_behaviours(state, bb_names),
             "next": next_states,
             "group": _activation(state, groups, period, target, where),
         })
     predicates = list(pp_names.values()) + list(writer.derived.values())
+    simulation = sub.simulation
     return {"buffers": buffers, "groups": groups, "predicates": predicates, "behaviours": behaviours,
-            "states": states, "initial": _xml(fsm.initial or "")}
+            "states": states, "initial": _xml(fsm.initial or ""),
+            "simulation": None if simulation is None else {
+                "use_ros_sim_clock": _boolean(simulation.use_ros_sim_clock),
+                "use_sim_clock": _boolean(simulation.use_sim_clock),
+                "trigger_gazebo": None if simulation.trigger_gazebo is None else _boolean(simulation.trigger_gazebo)}}
+
+
+def _composed(sub: Subsystem, states: tuple[State, ...]) -> set[str]:
+    """The basic behaviours that only compose FABRIC's behaviours of states running several
+    side by side: FABRIC gets those behaviours, not the composition."""
+    plain = {b for s in states if not s.composes for b in s.behaviours}
+    return {b for s in states if s.composes for b in s.behaviours if b not in plain}
+
+
+def _state_behaviours(state: State, bb_names: dict[str, str]) -> list[str]:
+    names = state.composes or state.behaviours
+    missing = [b for b in state.composes if b not in bb_names]
+    if missing:
+        raise GenError(f"{state.path}: tag behaviours names {', '.join(missing)}, no basic behaviour of its subsystem")
+    return [bb_names[b] for b in names if b in bb_names]
+
+
+def _boolean(value: bool) -> str:
+    return "true" if value else "false"
 
 
 def _groups(sub: Subsystem, inputs: list[Data], target: FabricTarget) -> list[Data]:
@@ -178,9 +209,11 @@ def _activation(state: State, groups: list[Data], period: float, target: FabricT
     min_period = activation.min_period if activation.min_period is not None else period
     first = activation.first_timeout if activation.first_timeout is not None else min_period
     following = activation.next_timeout if activation.next_timeout is not None else first
-    return {"name": group, "min_period": _number(min_period), "min_period_sim": _number(min_period),
+    min_period_sim = activation.min_period_sim if activation.min_period_sim is not None else min_period
+    first_sim = activation.first_timeout_sim if activation.first_timeout_sim is not None else first
+    return {"name": group, "min_period": _number(min_period), "min_period_sim": _number(min_period_sim),
             "first_timeout": _number(first), "next_timeout": _number(following),
-            "first_timeout_sim": _number(first), "used_time": target.used_time}
+            "first_timeout_sim": _number(first_sim), "used_time": _xml(activation.used_time or target.used_time)}
 
 
 def _number(value: float) -> str:

@@ -1,5 +1,6 @@
 """EARL conditions as FABRIC condition text, the syntax FABRIC's ``logicExprToCpp`` translates:
-``and``, ``or``, ``not``, parentheses, ``TRUE``, ``FALSE`` over predicate names.
+``and``, ``or``, ``not``, parentheses, ``TRUE``, ``FALSE`` over predicate names and FABRIC's
+run-time flags ``IN_ERROR`` (EARL's ``inError()``) and ``CURRENT_BEHAVIOR_OK`` (``behaviourOk()``).
 
 An atom of an EARL condition that is not a primitive predicate (``newData(x/ib)``, a comparison,
 a field) becomes a FABRIC predicate of its own, named after its text: FABRIC computes every
@@ -18,6 +19,8 @@ from earl_m2t.model.conditions import Condition
 from earl_m2t.model.elements import Subsystem
 from earl_m2t.predicate import (
     And,
+    BuiltIn,
+    BuiltInPredicate,
     Const,
     Expr,
     Not,
@@ -27,6 +30,8 @@ from earl_m2t.predicate import (
     format_predicate,
 )
 
+# the built-ins FABRIC's master computes itself (create_master_cpp.py)
+FLAGS = {BuiltInPredicate.IN_ERROR: "IN_ERROR", BuiltInPredicate.BEHAVIOUR_OK: "CURRENT_BEHAVIOR_OK"}
 MAX_ATOMS = 16  # beyond this many atoms two guards are taken to overlap without trying
 
 
@@ -81,6 +86,8 @@ class ConditionWriter:
             pp = self.scope.predicate(node.name)
             if pp is not None:
                 return self.pp_names[pp]
+        if isinstance(node, BuiltIn) and node.name in FLAGS:
+            return FLAGS[node.name]
         return self._atom(node)
 
     def _operand(self, node: Expr) -> str:

@@ -237,7 +237,14 @@ class _Builder:
         """FABRIC's run-time configuration of every instance whose definition FABRIC can express."""
         channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
         variable: dict[str, list[str]] = {}  # the same, of the variable links (several per input port)
-        alias_of = {f"{i['name']}.{b['port']}": f"{i['name']}_{b['alias']}" for i, _ in placed for b in i["buffers"]}
+        # the channel a buffer names (import fabric carries FABRIC's <io_buffer name>), else one of its own
+        carried = {".".join(self.port_of[buf.path]): buf.channel
+                   for sub in self.model.subsystems for buf in sub.buffers if buf.channel and buf.path in self.port_of}
+        for connection in links:  # an output without a channel of its own writes the one its reader names
+            if connection.get("variable", -1) < 0 and connection["to"] in carried:
+                carried.setdefault(connection["from"], carried[connection["to"]])
+        alias_of = {f"{i['name']}.{b['port']}": carried.get(f"{i['name']}.{b['port']}", f"{i['name']}_{b['alias']}")
+                    for i, _ in placed for b in i["buffers"]}
         for connection in links:
             if connection.get("variable", -1) >= 0:
                 source = f"{connection['from'].partition('.')[0]}.{connection['source_port']}"
@@ -248,6 +255,8 @@ class _Builder:
                 raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
                                "this one has several links")
             channels[connection["to"]] = alias_of[connection["from"]]
+        for port, channel in carried.items():
+            channels.setdefault(port, channel)
         for instance, definition in placed:
             instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
                 instance, definition["fabric"], definition["pfs"], channels, self.target.fabric)
