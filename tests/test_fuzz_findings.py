@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from xml.dom import minidom
 from pathlib import Path
 
 import pytest
@@ -55,6 +56,10 @@ REPLAYS = [
     ("minimal/n13b_model_name_newline.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n13c_buffer_group_backslash.uml", ["convert", "--to", "sysml"], {2}),
     ("minimal/n04b_convert_not_chain.uml", ["convert", "--to", "sysml"], {0}),
+    # a receive mode outside EARL's, generated with --force, is the latest value in every target
+    ("gen-orocos-keyerror/model.uml", ["check"], {1}),
+    ("gen-orocos-keyerror/model.uml", ["gen", "--target", "orocos", "--force"], {0}),
+    ("minimal/n10_receive_dash.uml", ["gen", "--target", "orocos", "--force"], {0}),
 ]
 
 
@@ -116,6 +121,22 @@ def test_an_expression_within_the_operator_bound_is_read(tmp_path: Path) -> None
     model.write_text(long_ec(MAX_OPERATORS - 1, "sysml"))
     result = earl("check", model, cwd=ROOT)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_a_name_with_a_double_hyphen_keeps_the_fabric_files_well_formed(tmp_path: Path) -> None:
+    """R8: a block named ``Gripper--Control`` reaches the XML comments of the FABRIC files, where
+    XML forbids ``--``: FABRIC's own parser must still read every spec, and every configuration
+    must be well-formed."""
+    result = earl("gen", FINDINGS / "minimal" / "n02_double_hyphen_block.sysml", "--target", "orocos",
+                  "-o", tmp_path, cwd=ROOT)
+    assert result.returncode == 0, result.stdout + result.stderr
+    specs = sorted(tmp_path.glob("fabric/*/spec/subsystem.xml"))
+    parsed = subprocess.run([sys.executable, str(SHARED / "fabric" / "run_parser.py"), *map(str, specs)],
+                            capture_output=True, text=True, timeout=SECONDS)
+    assert parsed.returncode == 0 and f"ok={len(specs)}" in parsed.stdout, parsed.stdout + parsed.stderr
+    assert "Gripper- -Control" in (tmp_path / "fabric" / "grip_a_cs" / "spec" / "subsystem.xml").read_text()
+    for configuration in tmp_path.glob("fabric/*/config/*.xml"):
+        minidom.parse(str(configuration))  # raises on malformed XML
 
 
 def test_trace_of_a_corrupt_source_map_is_one_line(tmp_path: Path) -> None:

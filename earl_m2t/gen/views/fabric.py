@@ -241,9 +241,11 @@ def instance_configuration(instance: Data, spec: Data, pfs: list[Data], links: d
             end = f"{pf['component']}.{port['port']}"
             buf = access.get(port["master_access"])
             if buf is not None and port["kind"] == "ib":
-                receive = buf["buffer"].receive
-                policy: Data = {"type": target.conn_policy[receive]}
-                if receive != "latest":
+                # a receive mode outside EARL's (a B011 error, generated with --force) is the
+                # latest value, as the C++ and ROS targets take it
+                queued = buf["buffer"].receive == "queue"
+                policy: Data = {"type": target.conn_policy["queue" if queued else "latest"]}
+                if queued:
                     policy["size"] = buf["buffer"].queue_size
                 connections.append({"from": f"{target.master}.{buf['alias']}_OUTPORT", "to": end,
                                     "name": buf["alias"], "policy": policy})

@@ -86,6 +86,15 @@ def xml_text(text: str) -> str:
     return escape(clean, {'"': "&quot;"})
 
 
+def xml_comment(text: str) -> str:
+    """Text safe inside an XML comment ``<!-- … -->``: one line, no ``--`` (which XML forbids
+    there) and no ``-`` at its end (which would make ``--->``)."""
+    clean = "".join(c for c in " ".join(text.split()) if c >= " ")
+    while "--" in clean:
+        clean = clean.replace("--", "- -")
+    return clean + " " if clean.endswith("-") else clean
+
+
 def _elements(name: str, replicated: bool, count: int) -> list[tuple[str, str]]:
     """(port name, index suffix) of every element of a (possibly replicated) member."""
     if not replicated:
@@ -202,7 +211,7 @@ class _Builder:
         for buf in sub.buffers:
             self.port_of[buf.path] = (master, ports[(buf.template, buf.index)]["port"])
         target = self.target
-        return {"name": master, "path": xml_text(sub.path), "comment": cpp_comment(sub.path),
+        return {"name": master, "path": xml_comment(sub.path), "comment": cpp_comment(sub.path),
                 "type": entry["master_type"],
                 "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
                 "event_driven": entry["event_driven"],
@@ -370,7 +379,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         note = (f"no FABRIC package for {sub.path}: a FABRIC subsystem needs an Input Buffer in a buffer "
                 "group, it has none")
     else:
-        fabric.update(path=xml_text(sub.path), block=xml_text(sub.block), trace=sub.path)
+        fabric.update(path=xml_comment(sub.path), block=xml_comment(sub.block), trace=sub.path)
     return {
         "ns": ns, "agent": definition["agent"], "sub": definition["sub"], "path": xml_text(sub.path),
         "definition": cpp_comment(sub.block),
