@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from xml.dom import minidom
 from pathlib import Path
+from xml.dom import minidom
 
 import pytest
 
