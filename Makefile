@@ -5,7 +5,7 @@ PY := $(VENV)/bin/python
 SAMPLE := samples/pick_and_place/pick_and_place.uml
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test setup bytecode wheel-check bench fuzz clean
+.PHONY: demo test campaign setup bytecode wheel-check bench fuzz clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -27,9 +27,19 @@ demo: bytecode
 
 # Orocos RTT and OCL for the orocos target's tests: found, or built once into a cache. A failed
 # build does not stop here: the Orocos tests then fail with the build log's tail.
+# The suite runs each loaded campaign (a sample under a CPU hog per core) SUITE_RUNS times;
+# `make campaign` runs the campaigns alone, CAMPAIGN_RUNS times each (tests/support/campaign.py).
+SUITE_RUNS ?= 10
+CAMPAIGN_RUNS ?= 50
+CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_harmoniser_runs.py \
+	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py
 test: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
-	$(PY) -m pytest -q
+	EARL_CAMPAIGN_RUNS=$(SUITE_RUNS) $(PY) -m pytest -q
+
+campaign: bytecode
+	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
+	EARL_CAMPAIGN_RUNS=$(CAMPAIGN_RUNS) $(PY) -m pytest -q -s $(CAMPAIGNS)
 
 wheel-check: $(STAMP)
 	$(PY) -m pytest -q tests/packaging

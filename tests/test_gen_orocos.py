@@ -23,6 +23,7 @@ import pytest
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, generate, render
 from tests.support import orocos
+from tests.support.campaign import loaded_runs
 from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -348,7 +349,7 @@ def deployer_states(lines: list[str]) -> list[str]:
     return [m.group(2) or m.group(4) for m in map(DEPLOYER_STATE.match, (line.strip() for line in lines)) if m]
 
 
-LOADED_RUNS = 50
+LOADED_RUNS = loaded_runs()
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 # The periodic masters at 2 ms: 17 masters (and 24 pf components) at 1 ms do not keep up on
 # two cores with a busy process per core, so each run would take the timeout; at 2 ms a run

@@ -17,6 +17,7 @@ import pytest
 
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, render
+from tests.support.campaign import loaded_runs
 from tests.support.load import cpu_hogs, run_until
 from tests.support.ros_launch import PYTHON, clear_start_barrier, free_port, needs_catkin, needs_roslaunch, run, stop
 
@@ -26,7 +27,7 @@ SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
 STATE = re.compile(r"^step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
-LOADED_RUNS = 50
+LOADED_RUNS = loaded_runs()
 LAUNCH_TIMEOUT = 60.0  # s per launch: start-up of the 17 nodes under load, then about 1 s of script
 
 @pytest.fixture(scope="module")

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks import SWITCH, Harmoniser, latencies_ms, latency_summary, switches, undelivered
@@ -34,7 +35,7 @@ USER = SAMPLE.parent / "user"
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
 CYCLES = 140
-LOADED_RUNS = 50
+LOADED_RUNS = loaded_runs()
 THREADED_SECONDS = 0.5  # the fall is at the lidar's 40th scan, the person up at its 70th: 1 ms each
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
@@ -118,6 +119,6 @@ def test_the_checks_catch_a_switch_that_skips_the_drain(tmp_path: Path) -> None:
     not resumed in waiting, which the checks see in at least one loaded run."""
     undrained = build(SAMPLE, tmp_path, "-DEARL_SWITCH_DRAIN=0")
     with cpu_hogs():
-        caught = next((attempt for attempt in range(LOADED_RUNS)
+        caught = next((attempt for attempt in range(CATCH_ATTEMPTS)
                        if Harmoniser.problems(threaded_run(undrained))), None)
-    assert caught is not None, f"all {LOADED_RUNS} runs of the drain-skipping build passed the checks"
+    assert caught is not None, f"all {CATCH_ATTEMPTS} runs of the drain-skipping build passed the checks"

@@ -33,6 +33,7 @@ from pathlib import Path
 import pytest
 
 from tests.support import orocos
+from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks_orocos import (
@@ -54,7 +55,7 @@ HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
 # GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
-RUNS = 50
+RUNS = loaded_runs()
 PERIOD = 0.002  # s: every periodic master (the scripts' 0.01 s, as a user sets it)
 RUN_TIMEOUT = 30.0  # s per deployment; one takes 2 to 4 s under load
 ERROR = re.compile(r"\[\s*ERROR\s*\]")
@@ -178,9 +179,9 @@ def test_the_checks_catch_a_switch_that_skips_the_drain(two_arm: Path, rtt: oroc
     prefix = install(two_arm, rtt, "build_undrained", "-DEARL_SWITCH_DRAIN=0")
     deployer = Deployer(deployment(two_arm, two_arm / "deploy_undrained"), prefix, rtt)
     with cpu_hogs():
-        caught = next((attempt for attempt in range(1, RUNS + 1)
+        caught = next((attempt for attempt in range(1, CATCH_ATTEMPTS + 1)
                        if two_arm_problems(deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))[0])), None)
-    assert caught is not None, f"all {RUNS} deployments of the drain-skipping build passed the checks"
+    assert caught is not None, f"all {CATCH_ATTEMPTS} deployments of the drain-skipping build passed the checks"
 
 
 # ---------------------------------------------------------------- harmoniser

@@ -33,6 +33,7 @@ import pytest
 from earl_m2t.api import load
 from earl_m2t.gen import render
 from earl_m2t.gen.views.switch_wiring import switch_wiring
+from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code
 from tests.support.cpp_sample import run as run_cpp
 from tests.support.load import cpu_hogs, run_until
@@ -53,7 +54,7 @@ HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
 # GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
-LOADED_RUNS = 50
+LOADED_RUNS = loaded_runs()
 LAUNCH_TIMEOUT = 30.0  # s per launch: start-up of the nodes under load, then well under a second of script
 WAYPOINTS_BACK = 5  # the harmoniser's launch stops once guide/a led to this many waypoints back in guiding
 
@@ -223,14 +224,14 @@ def test_two_arm_checks_catch_a_build_that_skips_the_drain(
     timeouts = switch_timeouts_ms(ws)
     caught = None
     with cpu_hogs():
-        for attempt in range(LOADED_RUNS):
+        for attempt in range(CATCH_ATTEMPTS):
             lines, reached, _ = launch(ws, core, TwoArm.finished)
             found = two_arm_problems(lines, reached, two_arm_switches, timeouts)
             if found:
                 caught = f"launch {attempt + 1}: {found}"
                 break
     print(f"\ntwo_arm without the drain: {caught}")
-    assert caught is not None, f"all {LOADED_RUNS} launches of the drain-skipping build passed the checks"
+    assert caught is not None, f"all {CATCH_ATTEMPTS} launches of the drain-skipping build passed the checks"
 
 
 # ------------------------------------------------------------------ harmoniser

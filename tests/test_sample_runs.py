@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.campaign import loaded_runs
 from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -35,7 +36,7 @@ TASK = re.compile(r"^step \d+ task/a\.cs: (jointMove setpoint|motion finished|em
 # The loaded threaded campaign: 50 runs, each stopped as soon as manip/a.cs reached
 # emergencyStop (about 0.85 s of the sample's script at the threaded period of 1 ms), with
 # one busy process per CPU; about 50 s in all.
-LOADED_RUNS = 50
+LOADED_RUNS = loaded_runs()
 LOADED_TIMEOUT = 20.0  # s per run: far beyond the 0.85 s the script needs
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 

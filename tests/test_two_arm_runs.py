@@ -26,6 +26,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks import SWITCH, TwoArm
@@ -37,7 +38,7 @@ COMMANDS = TwoArm.COMMANDS
 SWITCHES = TwoArm.SWITCHES
 TIMEOUT_MS = TwoArm.TIMEOUT_MS
 CYCLES = 6000
-LOADED_RUNS = 50
+LOADED_RUNS = loaded_runs()
 RUN_TIMEOUT = 10.0  # s per threaded run: the sample needs about 0.25 s
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
@@ -99,8 +100,8 @@ def test_threaded_runs_under_load_hand_every_command_over(drained: Path) -> None
 def test_the_checks_catch_a_switch_that_skips_the_drain(undrained: Path) -> None:
     assert problems(run(undrained, "--cycles", str(CYCLES)).splitlines())
     with cpu_hogs():
-        caught = next((attempt for attempt in range(LOADED_RUNS) if problems(threaded_run(undrained))), None)
-    assert caught is not None, f"all {LOADED_RUNS} runs of the drain-skipping build passed the checks"
+        caught = next((attempt for attempt in range(CATCH_ATTEMPTS) if problems(threaded_run(undrained))), None)
+    assert caught is not None, f"all {CATCH_ATTEMPTS} runs of the drain-skipping build passed the checks"
 
 
 def test_no_heap_allocation_per_cycle_switches_included(generated: Path) -> None:
