@@ -236,3 +236,22 @@ def test_the_harmoniser_sample_proves_its_switches_lossless_and_its_property(
     assert result["processes"] == ["tha/a.cs", "guide/a.cs", "fallHelp/a.cs"]
     assert all(any(line.startswith(text) for line in result["proven"]) for text in HARMONISER_PROVEN), result
     assert f"{stopped_in_waiting} holds" in result["proven"]
+
+
+HOSTILE = [  # a configuration name a printf string cannot hold as it is: quotes and a conversion
+    ("metadata useB : Structure", "metadata 'use \\\"B\\\" 100%d' : Structure"),
+    ('configuration = "useB"', 'configuration = "use \\"B\\" 100%d"'),
+]
+
+
+def test_names_never_reach_the_promela_printf_strings(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The switch marks carry numbers, and the counterexample gets the names back from the model."""
+    hostile = _variant(tmp_path, HOSTILE)
+    assert main(["check", str(hostile)]) == 0
+    capsys.readouterr()
+    code = main(["verify", str(hostile), "--format", "json", "--ltl", "[] !manipB/a@active"])
+    result = json.loads(capsys.readouterr().out)
+    assert code == 1, result
+    (finding,) = result["findings"]
+    whys = [step["by"] for step in finding["trace"]]
+    assert whys[-1] == 'the switch useA → use "B" 100%d is done: manipB/a resumes', whys

@@ -301,7 +301,7 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
                 body.append(f"  :: atomic {{ {guard} && cfg != {switch} -> {begin}; "
                             f"/* {promela_comment(state.name)}: {promela_comment(label)}, a switch begins */")
                 # not a Step: the state is entered when the switch opens (Specification.entries)
-                body.append(f'       {mark}; printf("{SWITCH_MARK} begin {info.states[target].configuration}\\n") }}')
+                body.append(f'       {mark}; printf("{SWITCH_MARK} begin {switch}\\n") }}')
                 guard += f" && cfg == {switch}"
             body.append(f"  :: atomic {{ {guard} -> {effect}; "
                         f"/* {promela_comment(state.name)}: {promela_comment(label)} */")

@@ -1,8 +1,10 @@
 """The Promela process that carries a switch out (docs/verify.md, *Variable structure*): a
 leaving agent stops, the next configuration opens, or the switch timeout fires.
 
-Each step prints a ``SWITCH_MARK`` line naming what it did, read back from SPIN's replay into
-the counterexample (switch_trace.py).
+Each step prints a ``SWITCH_MARK`` line saying what it did, read back from SPIN's replay into
+the counterexample (switch_trace.py). The lines carry numbers and Promela identifiers only (an
+agent's index, a configuration's number, a counter's variable), never model names, which could
+hold what a printf string or the reading back cannot take.
 """
 
 from __future__ import annotations
@@ -21,17 +23,17 @@ HEADER = (
 )
 FOOTER = ("  od", "}")
 STOP = ("  :: atomic {{ {leaving} && {active}{quiet}{empty} -> {active} = false; "
-        "printf(\"{mark} stop {path}{shown}\\n\"{state}) }}")
+        "printf(\"{mark} stop {agent}{shown}\\n\"{state}) }}")
 OPEN = (  # one step per state of the coordinator naming the configuration: it enters that state
     "  :: atomic {{ switching && nxt == {number} && pending == {state}{stopped} ->",
     "       {effects};",
-    "       printf(\"{mark} open {name} %d {state}\\n\", {coordinator});",
+    "       printf(\"{mark} open {number} %d {state}\\n\", {coordinator});",
     "       {coordinator} = {state}; cfg = {number}; switching = false }}",
 )
 ENTERS = 2  # the line of OPEN that marks the state entered
 TIMEOUT = "  :: atomic {{ timeout && switching -> printf(\"{mark} timeout %d\\n\", nxt);"
-STUCK = "       if :: {leaving} && {active} -> printf(\"{mark} stuck {path}{shown}\\n\"{state});"
-LOST = ("         if :: {counter} > 0 -> printf(\"{mark} lost {label} %d\\n\", {counter}); lost = true "
+STUCK = "       if :: {leaving} && {active} -> printf(\"{mark} stuck {agent}{shown}\\n\"{state});"
+LOST = ("         if :: {counter} > 0 -> printf(\"{mark} lost {counter} %d\\n\", {counter}); lost = true "
         ":: else -> skip fi; {counter} = 0;")
 STUCK_END = "         {active} = false :: else -> skip fi;"
 TIMEOUT_END = "       timedout = true }"
@@ -63,18 +65,18 @@ def switch_process(rc: Reconfiguration, view: SwitchView) -> list[str | tuple[st
         return []
     shown = promela_comment(rc.coordinator.path)
     lines: list[str | tuple[str, State]] = [line.format(coordinator=shown) for line in HEADER]
-    lines += [_stop(agent, view) for agent in rc.agents]
+    lines += [_stop(index, agent, view) for index, agent in enumerate(rc.agents)]
     for number, structure in enumerate(rc.structures):
         for index, state in enumerate(coordinator.states):
             if state.configuration == structure.configuration.name:
                 opened = _open(rc, number, view, coordinator.variable, index)
                 lines += [(text, state) if k == ENTERS else text for k, text in enumerate(opened)]
     lines.append(TIMEOUT.format(mark=SWITCH_MARK))
-    for agent in rc.agents:
+    for index, agent in enumerate(rc.agents):
         lines.append(STUCK.format(mark=SWITCH_MARK, leaving=agent.leaving, active=agent.active,
-                                  path=agent.agent.path, **_shown(agent, view)))
-        lines += [LOST.format(mark=SWITCH_MARK, counter=counter, label=label)
-                  for counter, label in view.inputs.get(agent.agent.path, [])]
+                                  agent=index, **_shown(agent, view)))
+        lines += [LOST.format(mark=SWITCH_MARK, counter=counter)
+                  for counter, _ in view.inputs.get(agent.agent.path, [])]
         lines.append(STUCK_END.format(active=agent.active))
     lines.append(TIMEOUT_END)
     return lines + list(FOOTER)
@@ -86,7 +88,7 @@ def _shown(agent: VariableAgent, view: SwitchView) -> dict[str, str]:
     return {"shown": " %d", "state": f", {control[0].variable}"} if control else {"shown": "", "state": ""}
 
 
-def _stop(agent: VariableAgent, view: SwitchView) -> str:
+def _stop(index: int, agent: VariableAgent, view: SwitchView) -> str:
     """A leaving agent stops in a quiescent state with every tracked input empty."""
     quiet = []
     for process in view.control(agent):
@@ -100,7 +102,7 @@ def _stop(agent: VariableAgent, view: SwitchView) -> str:
             continue
         quiet.append("(" + " || ".join(f"{process.variable} == {process.states.index(s)}" for s in states) + ")")
     empty = [f"{counter} == 0" for counter, _ in view.inputs.get(agent.agent.path, [])]
-    return STOP.format(leaving=agent.leaving, active=agent.active, mark=SWITCH_MARK, path=agent.agent.path,
+    return STOP.format(leaving=agent.leaving, active=agent.active, mark=SWITCH_MARK, agent=index,
                        quiet="".join(f" && {q}" for q in quiet), empty="".join(f" && {e}" for e in empty),
                        **_shown(agent, view))
 
@@ -124,4 +126,4 @@ def _open(rc: Reconfiguration, number: int, view: SwitchView, coordinator: str, 
         effects.append(f"{agent.active} = true")
     effects += [f"{a.leaving} = false" for a in rc.agents]
     return [line.format(number=number, stopped=stopped, effects="; ".join(effects), mark=SWITCH_MARK,
-                        name=structure.configuration.name, coordinator=coordinator, state=state) for line in OPEN]
+                        coordinator=coordinator, state=state) for line in OPEN]

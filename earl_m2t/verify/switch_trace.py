@@ -36,14 +36,16 @@ class SwitchReader:
         self.configuration = self.rc.structures[self.rc.initial].configuration.name
         self.running = {a.agent.path for a in self.rc.agents if a.initially}
 
-    def begins(self, name: str) -> str:
-        """What is added to the coordinator's step that begins a switch to ``name``."""
-        structure = self.rc.structures[self.rc.configuration(name) or 0]
+    def begins(self, number: str) -> str:
+        """What is added to the coordinator's step that begins a switch to configuration ``number``."""
+        structure = self.rc.structures[int(number)]
+        name = structure.configuration.name
         leaving = sorted(path for path in self.running if not structure.has_agent(path))
         return f"; the switch {self.configuration} → {name} begins" + (
             f", leaving: {', '.join(leaving)}" if leaving else "")
 
-    def event(self, kind: str, words: list[str]) -> SwitchEvent | None:
+    def event(self, kind: str, numbered: list[str]) -> SwitchEvent | None:
+        words = self._named(kind, numbered)
         if kind == "stop":
             self.running.discard(words[0])
             why = f"the drain: quiescent{self._in(words)}, its inputs empty"
@@ -63,6 +65,20 @@ class SwitchReader:
             self.lost.append((words[0], int(words[1])))
             return SwitchEvent(words[0], f"{words[1]} queued", "cleared", "the switch timeout: undelivered")
         return None
+
+    def _named(self, kind: str, words: list[str]) -> list[str]:
+        """The words of a mark with the model's names in place of the numbers and identifiers the
+        Promela prints (switch_process.py): an agent's index, a configuration's number, a counter."""
+        if not words:
+            return words
+        first = words[0]
+        if kind in ("stop", "stuck"):
+            first = self.rc.agents[int(first)].agent.path
+        elif kind == "open":
+            first = self.rc.structures[int(first)].configuration.name
+        elif kind == "lost":
+            first = next((label for t in self.spec.tracked for counter, label in t.counters if counter == first), first)
+        return [first, *words[1:]]
 
     def _open(self, words: list[str]) -> SwitchEvent:
         name, before, after = words[0], int(words[1]), int(words[2])
