@@ -8,6 +8,7 @@ and buffer it reaches, and sent; no state changes because of it."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -18,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from tests.support.faulty_user import FAILED, NAN_FROM, THROWN, copy_faulty_user
+from tests.test_cpp_allocations import compile_
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
@@ -125,3 +127,16 @@ def test_a_policy_that_is_not_one_is_refused(system: Path) -> None:
     result = run(system, "--non-finite", "ignore")
     assert result.returncode == 2
     assert "--non-finite" in result.stderr
+
+
+@pytest.mark.parametrize("fault", ["fail", "nan"])
+def test_the_failure_path_allocates_nothing(system: Path, fault: str) -> None:
+    """bench/cpp/alloc_main.cpp over the faulty build: one start-up cycle, then the cycles in
+    which the pf fails (fail() at manip/a.cs's third, NaN from its 100th) are counted."""
+    out = system.parent.parent / "out"
+    binary = compile_(out, out.parent / "alloc_main", "alloc_main.cpp", "count_new.cpp")
+    result = subprocess.run([str(binary), "--startup", "1", "--cycles", "2000", "--threaded", "0"],
+                            capture_output=True, text=True, timeout=120, env={**os.environ, "EARL_FAULT": fault})
+    assert result.returncode == 0, result.stderr
+    [report] = [json.loads(line) for line in result.stdout.splitlines() if line.startswith('{"')]
+    assert report["allocations"] == 0, report
