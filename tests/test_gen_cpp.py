@@ -147,7 +147,7 @@ def test_a_user_file_edit_survives_regeneration(tmp_path: Path) -> None:
     model = load(SAMPLE).model
     generate(model, tmp_path)
     user = tmp_path / "user" / "manip_a" / "cs" / "jointMove_pf.hpp"
-    execute = "  void execute() noexcept override {"
+    execute = "  void execute() override {"
     edited = user.read_text(encoding="utf-8").replace(execute, execute + "\n    motionFinished_mo() = true;")
     user.write_text(edited, encoding="utf-8")
     report = generate(model, tmp_path)

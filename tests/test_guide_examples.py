@@ -17,7 +17,18 @@ import pytest
 
 from earl_m2t import Loaded, Severity, check, load
 from earl_m2t.model.elements import EarlModel, Subsystem
-from earl_m2t.predicate import And, Const, Not, Or, PredicateRef, Replicated, parse_predicate, walk
+from earl_m2t.predicate import (
+    And,
+    BuiltIn,
+    BuiltInPredicate,
+    Const,
+    Not,
+    Or,
+    PredicateRef,
+    Replicated,
+    parse_predicate,
+    walk,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "docs" / "modelling-guide.md"
@@ -40,6 +51,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "Transition-function stages": ("stages.uml", "stages-conflict.uml"),
     "Activation: buffer groups, timeouts and receive modes": ("activation.uml",),
     "Properties the whole system must keep (`earl-m2t verify`)": ("ltl-property.uml",),
+    "When a pf fails: `behaviourOk()` and `inError()`": ("pf-health.uml",),
     "Variable structure: configurations, the coordinator, quiescent states": ("variable-structure.uml",),
     "4. Conditions: the predicate language": (
         "primitive-predicates.uml", "fsm.uml", "replication.uml", "predicate-errors.uml",
@@ -93,6 +105,8 @@ TABLE_ROWS: dict[str, str] = {
     "configuration": "variable-structure.uml",
     "coordinator": "variable-structure.uml",
     "quiescent state": "variable-structure.uml",
+    "`behaviourOk()`": "pf-health.uml",
+    "`inError()`": "pf-health.uml",
     "`leaving()`": "variable-structure.uml",
     "reactivation": "variable-structure.uml",
     "switch timeout": "variable-structure.uml",
@@ -789,3 +803,14 @@ def test_configurations_name_variable_agents_and_links_and_the_coordinator_switc
     assert manip.fsm is not None and [(s.name, s.quiescent) for s in manip.fsm.states] == [
         ("idle", True), ("moving", False)]
     assert codes("variable-structure.uml") == set()
+
+
+def test_a_behaviour_ends_on_a_failed_pf_and_a_transition_is_taken_on_the_error() -> None:
+    model = lifted("pf-health.uml")
+    [sub] = model.subsystems
+    assert sub.fsm is not None
+    [transition] = sub.fsm.transitions
+    assert transition.condition is not None and transition.condition.expr == BuiltIn(BuiltInPredicate.IN_ERROR)
+    driving = sub.behaviour(sub.fsm.states[0].behaviours[0])
+    assert driving is not None and driving.ec is not None
+    assert driving.ec.expr == Not(BuiltIn(BuiltInPredicate.BEHAVIOUR_OK))

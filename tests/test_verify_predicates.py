@@ -11,6 +11,7 @@ from earl_m2t.api import load
 from earl_m2t.cli.app import main
 from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.location import Location
+from earl_m2t.verify.outcomes import state_outcomes
 from earl_m2t.verify.promela import translate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -88,3 +89,26 @@ def test_only_properties_over_predicates_record_them() -> None:
     spec = translate(model, (over_predicate,))
     assert "bool pp0 = false; /* manip/a.cs motionFinished/pp in its latest iteration */" in spec.text
     assert spec.formulas["q"] == "<> pp0"
+
+
+def test_in_error_is_the_value_of_ec_and_behaviour_ok_is_free() -> None:
+    """The sample's jointMove/bb ends on ec = ¬behaviourOk(): every outcome where a pf failed
+    takes jointMove,emergencyStop/t (guard emergencyStop/pp ∨ inError()), none goes back to
+    idle on it, and a failure can happen (behaviourOk() takes either value)."""
+    model = load(SAMPLE_SYSML).model
+    [manip] = [s for s in model.subsystems if s.path == "manip/a.cs"]
+    [joint_move] = [so for so in state_outcomes(model, manip) if so.state.name == "jointMove"]
+    assert joint_move.exact
+    failed = [o for o in joint_move.outcomes if dict(o.witness)["behaviourOk()"] is False]
+    assert failed
+    assert all(o.ended and o.transition is not None and o.transition.name == "jointMove,emergencyStop/t"
+               for o in failed)
+    assert all(dict(o.witness)["inError()"] is True for o in failed)
+
+
+def test_a_model_using_in_error_and_behaviour_ok_is_verified_by_spin(capsys: pytest.CaptureFixture[str]) -> None:
+    """SPIN accepts the Promela of the sample, whose conditions read both built-ins."""
+    prop = "[] (manip/a.cs@emergencyStop -> [] manip/a.cs@emergencyStop)"
+    code, result = _verify(SAMPLE_SYSML, capsys, prop)
+    assert code == 0, result
+    assert f"{prop} holds" in result["proven"]

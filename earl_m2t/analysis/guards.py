@@ -31,6 +31,7 @@ from itertools import combinations
 
 from earl_m2t.analysis.cnf import Cnf
 from earl_m2t.analysis.expand import Expander, Formula, Term
+from earl_m2t.analysis.in_error import with_error
 from earl_m2t.model.datatypes import DataType
 from earl_m2t.model.elements import BasicBehaviour, State, Subsystem, Transition
 from earl_m2t.predicate import And, Compare, Const, Expr, FieldRef, Not, Number, Or
@@ -67,11 +68,14 @@ class GuardAnalysis:
         self.cnf = Cnf()
         self._formulas: dict[str, tuple[Formula, int] | None] = {}
         fsm = subsystem.fsm
+        errors = {bb.name: self.expander.condition(bb.ec, missing=False) for bb in subsystem.behaviours}
+        states = {s.name: s.behaviours[0] for s in fsm.states if len(s.behaviours) == 1} if fsm is not None else {}
         for tr in fsm.transitions if fsm is not None else ():
-            self._add(tr.path, self.expander.condition(tr.condition, missing=True))
+            ec = errors.get(states.get(tr.source, ""))
+            self._add(tr.path, with_error(self.expander.condition(tr.condition, missing=True), ec))
         for bb in subsystem.behaviours:
-            self._add(f"{bb.path}#tc", self.expander.condition(bb.tc, missing=False))
-            self._add(f"{bb.path}#ec", self.expander.condition(bb.ec, missing=False))
+            self._add(f"{bb.path}#tc", with_error(self.expander.condition(bb.tc, missing=False), errors[bb.name]))
+            self._add(f"{bb.path}#ec", errors[bb.name])
         self.background = self._exclusions()
         self.background += self._comparisons()
 

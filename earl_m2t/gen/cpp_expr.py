@@ -8,6 +8,8 @@ expanded with the subsystem's multiplicities first.
 - a primitive predicate → a call of its generated member function (``emergencyStop_pp()``)
 - a buffer field → ``data_.port.msg().field`` (the last value received or to be sent),
   a memory field → ``data_.memory.field``; a numeric value in a boolean place means ``!= 0``
+- ``inError()``, ``behaviourOk()`` → the runtime's members of the same names (``leaving()``
+  → the runtime's ``leaving()`` in a model with configurations, ``false`` otherwise)
 - ``newData(ib.msg.a.b)`` → the buffer's ``newData()`` and, for every optional or
   variable-length field along the path, that it is not empty in the value received
 - comparisons compare the C++ values; an array index in a path is copied as written (0-based)
@@ -41,6 +43,8 @@ from earl_m2t.predicate import (
 )
 
 NUMERIC = ("integer", "real")
+# the built-ins the runtime's earl::Health answers (earl/health.hpp)
+_HEALTH = {BuiltInPredicate.IN_ERROR: "inError()", BuiltInPredicate.BEHAVIOUR_OK: "behaviourOk()"}
 
 
 @dataclass(frozen=True)
@@ -105,8 +109,8 @@ class ExprCompiler:
             return f"({self._operand(node.left)} {node.op} {self._operand(node.right)})"
         if isinstance(node, BuiltIn) and node.name == BuiltInPredicate.LEAVING:
             return "leaving()" if self.switching else "false"  # without configurations nothing leaves
-        if isinstance(node, BuiltIn):
-            return f"{node.name}()"  # inError(), behaviourOk(): the runtime answers them
+        if isinstance(node, BuiltIn) and node.name in _HEALTH:
+            return _HEALTH[node.name]
         if isinstance(node, Replicated):
             raise self._error(f"'{format_predicate(node)}' names no replicated buffer or memory")
         raise self._error(f"unsupported expression {node!r}")

@@ -38,6 +38,7 @@ from earl_m2t.predicate.transform import (
     index_name,
     is_indexed,
     join,
+    map_children,
     substitute_index,
 )
 from earl_m2t.predicate.walk import evaluate, evaluate_atoms, references, walk
@@ -71,6 +72,7 @@ __all__ = [
     "index_name",
     "is_indexed",
     "join",
+    "map_children",
     "parse_predicate",
     "references",
     "substitute_index",

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from itertools import combinations, product
 
 from earl_m2t.analysis.expand import Expander, Formula
+from earl_m2t.analysis.in_error import with_error
 from earl_m2t.model.elements import EarlModel, State, Subsystem, Transition
 from earl_m2t.model.naming import split
 from earl_m2t.predicate import (
@@ -83,6 +84,7 @@ def _one_state(expander: Expander, subsystem: Subsystem, state: State, exclusion
         key=lambda t: (-t.priority, t.order),
     )
     guards = [expander.condition(t.condition, missing=True) for t in outgoing]
+    tc, guards = with_error(tc, ec), [with_error(g, ec) for g in guards]  # inError() is ec's value
     formulas = [tc, ec, *guards]
     by_design = tc is not None and ec is not None and not _atoms(tc.expr) and not _atoms(ec.expr) \
         and not _value(tc.expr, {}) and not _value(ec.expr, {})

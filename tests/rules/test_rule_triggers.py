@@ -780,6 +780,13 @@ def negative_timeout(s: Sample) -> Expect:
     return Expect(s.id(state), "nextTimeout")
 
 
+def error_condition_reads_in_error(s: Sample) -> Expect:
+    """B012: jointMove/bb's error condition reads inError() (the previous iteration's value)."""
+    ec = s._find(s.activity("ManipulatorControl", "jointMove"), 'ownedRule[@name="ec"]/specification/body', "ec")
+    ec.text = "inError() ∨ ¬behaviourOk()"
+    return Expect(s.id(ec.getparent()), "inError()")
+
+
 def one_shot_command_into_latest_value(s: Sample) -> Expect:
     """C009: ManipulatorControl's manipulatorCommand/ib receives the latest value again (the
     sample's tags receive = queue removed) and no longer activates an iteration (the group waits
@@ -1175,6 +1182,7 @@ VARIANTS: dict[str, Mutation] = {
     "B010-unknown-group": state_names_unknown_buffer_group,
     "B011": queue_of_no_value,
     "B011-negative-timeout": negative_timeout,
+    "B012": error_condition_reads_in_error,
     "T001": stage_memory_write_conflict,
     "T002": stage_output_write_conflict,
     "T003": pf_reads_foreign_buffer,

@@ -10,6 +10,7 @@ from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.conditions import ProblemKind
 from earl_m2t.model.elements import EarlModel, State
 from earl_m2t.model.graph import unreachable_states
+from earl_m2t.predicate import BuiltIn, BuiltInPredicate, walk
 
 
 @rule("B001")
@@ -123,3 +124,16 @@ def termination_without_transition(model: EarlModel) -> Iterator[Finding]:
             what = "no transition leaves it"
         yield Finding(f"{state.path}: {bb} can terminate (tc holds, ec does not) when {gap.witness}, and then "
                       f"{what}: the subsystem stays in {state.name} and runs {bb} again", state.location, state.path)
+
+
+@rule("B012")
+def error_condition_reads_in_error(model: EarlModel) -> Iterator[Finding]:
+    for sub in model.definitions():
+        for bb in sub.behaviours:
+            ec = bb.ec
+            if ec is None or ec.expr is None:
+                continue
+            if any(isinstance(node, BuiltIn) and node.name == BuiltInPredicate.IN_ERROR for node in walk(ec.expr)):
+                yield Finding(f"the error condition of {bb.path} reads inError(), which there is the value of "
+                              "the previous iteration (false in a state's first): the error condition of the "
+                              "current one is being computed", ec.location, bb.path)

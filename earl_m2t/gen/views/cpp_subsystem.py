@@ -27,7 +27,8 @@ Data = dict[str, Any]
 _SUBSYSTEM_RESERVED = ("Data", "Subsystem", "data", "data_", "tables", "execute", "fun",
                        "startHook", "updateHook", "stopHook", "name", "period", "setPeriod",
                        "setObserver", "observer", "iteration", "steps", "currentState",
-                       "currentStateName", "Base")
+                       "currentStateName", "Base", "inError", "behaviourOk", "entries", "pfFailed", "written",
+                       "nonFinite", "setNonFinite", "fail", "takeFailure", "failure_")
 # and those of the base of a subsystem in a model with configurations
 _SWITCHING_RESERVED = ("resetData", "quiescent", "leaving", "switching", "joinAgent", "coordinate")
 
@@ -86,6 +87,7 @@ class _SubsystemView:
         self._ports()
         self._memories()
         predicates = self._predicates()
+        reason = self.scope.take("pfReason")
         functions, pf_ids = self._functions()
         pp_base_accessors = self._accessors(tuple(self.paths) + tuple(self.mem_paths), ())
         fsm = sub.fsm
@@ -117,6 +119,7 @@ class _SubsystemView:
             "queued": [p for p in self.ports.values() if p["queue"]],
             "block_id": sub.block_id, "port_members": {t: p["member"] for t, p in self.ports.items()},
             "switching": self.switching, "quiescent": _quiescent(fsm.states) if self.switching else [],
+            "reason": reason, "held": [p for p in self.ports.values() if p.get("hold")],
         }
 
     # ------------------------------------------------------------------ data
@@ -197,13 +200,32 @@ class _SubsystemView:
             ident = self.scope.take(pf.name, "_base", "_")
             run = self.scope.take(f"run_{ident}")
             accessors = self._accessors(pf.reads, pf.writes)
+            checks = self._checks(ident, pf.writes)
             entry = {"cls": ident, "base": f"{ident}_base", "member": f"{ident}_", "run": run, "trace": pf.path,
                      "qualified": f"::{self.namespace}::{ident}", "accessors": accessors,
-                     "comment": cpp_comment(pf.name)}
+                     "comment": cpp_comment(pf.name), "index": len(functions), "name": cpp_string(pf.name),
+                     "checks": checks, "check": self.scope.take(f"check_{ident}") if checks else ""}
             functions.append(entry)
             pf_ids[pf.name] = entry
             self.user.pf.append({**self._user_file(ident, pf.path, pf.language, pf.body), "accessors": accessors})
         return functions, pf_ids
+
+    def _checks(self, ident: str, writes: tuple[str, ...]) -> list[Data]:
+        """The output buffers a pf writes that hold a real number somewhere: checked for
+        non-finite values after it runs, each with its hold flag and its reported flag."""
+        checks: list[Data] = []
+        for port in _port_list(self.ports, [self.paths[p] for p in writes
+                                            if p in self.paths and self.paths[p].direction == "out"]):
+            data = next(d for d in self.ports.values() if d["member"] == port["member"])  # the port itself
+            if not _holds_real(self.types.model, self.paths[data["trace"]].datatype):
+                continue
+            if not data.get("hold"):
+                data["hold"] = self.scope.take(f"hold_{data['member']}")
+            checks.append({"member": data["member"], "replicated": data["replicated"], "count": data["count"],
+                           "hold": data["hold"], "flag": self.scope.take(f"nonFinite_{ident}_{data['member']}"),
+                           "buffer": data["name"], "comment": data["comment"],
+                           "reason": cpp_string(f"a non-finite number in {data['comment']}")})
+        return checks
 
     def _user_file(self, ident: str, path: str, language: str, body: str) -> Data:
         return {"agent": self.agent_ns, "sub": self.sub_ns, "name": ident, "path": path, "trace": path,
@@ -384,8 +406,19 @@ def _port_list(ports: dict[str, Data], buffers: list[Buffer]) -> list[Data]:
     seen: dict[str, Data] = {}
     for buf in buffers:
         port = ports[buf.template]
-        seen.setdefault(port["member"], {"member": port["member"], "replicated": port["replicated"]})
+        seen.setdefault(port["member"], {"member": port["member"], "replicated": port["replicated"],
+                                         "count": port["count"], "hold": port.get("hold", "")})
     return list(seen.values())
+
+
+def _holds_real(model: EarlModel, key: str, seen: frozenset[str] = frozenset()) -> bool:
+    """Whether a value of the dataType ``key`` holds a real number anywhere (a NaN can hide there)."""
+    datatype = model.datatypes.get(key)
+    if datatype is None or key in seen:
+        return False
+    if datatype.kind == "primitive":
+        return datatype.primitive == "real"
+    return any(_holds_real(model, f.type, seen | {key}) for f in datatype.fields)
 
 
 def _body(text: str) -> list[str]:

@@ -357,6 +357,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         run_index[pf["run"]] = n
         pf_entries = _pf_ports(pf, where, master_ports, sync_memory)
         pfs.append({"role": pf["cls"], "cls": pf["cls"], "user": pf["qualified"], "run": pf["run"], "index": n,
+                    "name": pf["name"], "check": pf["check"],
                     "type": f"{ns}::orocos::{pf['cls']}", "ports": pf_entries,
                     "include": f"{definition['agent']}/{definition['sub']}/{pf['cls']}.hpp",
                     "model": cpp_comment(model_pf.name), "model_name": model_pf.name, "trace": model_pf.path})

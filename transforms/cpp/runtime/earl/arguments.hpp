@@ -8,6 +8,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+
+#include "earl/component.hpp"
 
 namespace earl {
 
@@ -32,6 +35,19 @@ inline bool parseSeconds(const char* text, double& seconds) noexcept {
   const double value = std::strtod(text, &end);
   if (end == text || *end != '\0' || errno != 0 || !std::isfinite(value) || value <= 0.0 || value > 1e6) return false;
   seconds = value;
+  return true;
+}
+
+/// What a pf writing a non-finite number does: "error" or "report".
+inline bool parseNonFinite(const char* text, NonFinite& policy) noexcept {
+  if (text == nullptr) return false;
+  if (std::strcmp(text, "error") == 0) {
+    policy = NonFinite::error;
+  } else if (std::strcmp(text, "report") == 0) {
+    policy = NonFinite::report;
+  } else {
+    return false;
+  }
   return true;
 }
 

@@ -9,6 +9,11 @@ namespace earl {
 
 class Component;
 
+/// What a pf that writes a non-finite number (NaN, +-inf) into an output buffer does:
+/// ``error``: the pf fails and the value is not sent; ``report``: the value is reported (once
+/// per pf and buffer until it is finite again) and sent.
+enum class NonFinite : std::uint8_t { error, report };
+
 /// Told about every state a subsystem enters: the initial one (``from`` and ``via`` are
 /// nullptr) and every transition taken, self-transitions included. For tracing and tests;
 /// it runs in the subsystem's own thread.
@@ -22,6 +27,18 @@ class Observer {
   virtual void overflowed(const Component& component, const char* buffer, std::uint64_t lost,
                           std::uint64_t step) noexcept {
     (void)component, (void)buffer, (void)lost, (void)step;
+  }
+  /// The pf ``pf`` failed for ``reason`` (its first failure since the state was entered;
+  /// behaviourOk() is false until the subsystem enters a state).
+  virtual void pfFailed(const Component& component, const char* pf, const char* reason,
+                        std::uint64_t step) noexcept {
+    (void)component, (void)pf, (void)reason, (void)step;
+  }
+  /// Under NonFinite::report: the pf ``pf`` wrote a non-finite number into ``buffer``, sent
+  /// (told once until the value it writes there is finite again).
+  virtual void nonFinite(const Component& component, const char* pf, const char* buffer,
+                         std::uint64_t step) noexcept {
+    (void)component, (void)pf, (void)buffer, (void)step;
   }
 };
 
@@ -51,6 +68,8 @@ class Component {
   std::chrono::nanoseconds period() const noexcept { return period_; }
   void setPeriod(std::chrono::nanoseconds period) noexcept { period_ = period; }
   void setObserver(Observer* observer) noexcept { observer_ = observer; }
+  NonFinite nonFinite() const noexcept { return nonFinite_; }
+  void setNonFinite(NonFinite policy) noexcept { nonFinite_ = policy; }
 
  protected:
   Observer* observer() const noexcept { return observer_; }
@@ -59,6 +78,7 @@ class Component {
   const char* name_;
   std::chrono::nanoseconds period_{std::chrono::milliseconds(1)};
   Observer* observer_ = nullptr;
+  NonFinite nonFinite_ = NonFinite::error;
 };
 
 }  // namespace earl

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "earl/component.hpp"
+#include "earl/health.hpp"
 #include "earl/port.hpp"
 #include "earl/runner.hpp"
 #include "earl/subsystem.hpp"

@@ -20,6 +20,7 @@
 #include <cstdint>
 
 #include "earl/component.hpp"
+#include "earl/health.hpp"
 
 namespace earl {
 
@@ -102,7 +103,7 @@ const TransitionDef<Self>* selectTransition(const Self& self, const TransitionDe
 /// The base of every generated subsystem (CRTP): Self supplies the tables and the
 /// member functions they point to.
 template <class Self>
-class Subsystem : public Component {
+class Subsystem : public Component, public Health {
  public:
   Subsystem(const char* name, const FsmTables<Self>& tables) noexcept
       : Component(name), tables_(tables), current_(tables.initial) {}
@@ -163,7 +164,9 @@ class Subsystem : public Component {
     entered_ = false;
     (self.*behaviour.receive)();
     ++steps_;
-    if ((self.*behaviour.error)() || (self.*behaviour.terminal)()) {
+    const bool error = (self.*behaviour.error)();
+    setInError(error);  // inError(): read by tc and the guards of this iteration, by ec in the next
+    if (error || (self.*behaviour.terminal)()) {
       const TransitionDef<Self>* next =
           selectTransition(self, tables_.transitions, tables_.transitionCount, current_);
       if (next != nullptr) {
@@ -184,6 +187,33 @@ class Subsystem : public Component {
   std::uint64_t timeouts() const noexcept { return timeouts_; }
   const FsmTables<Self>& tables() const noexcept { return tables_; }
 
+  /// The pf number ``pf`` (``name``) failed for ``reason``: behaviourOk() is false until the
+  /// subsystem enters a state; the observer hears of the pf's first failure in the state.
+  void pfFailed(std::size_t pf, const char* name, const char* reason) noexcept {
+    if (!markFailed(pf)) return;
+    if (Observer* o = observer()) o->pfFailed(*this, name, reason, steps_);
+  }
+  /// After the pf number ``pf`` ran: whether the value it wrote into ``buffer`` may be sent.
+  /// ``finite``: every number in it is; ``reason``: the failure a non-finite one is under
+  /// NonFinite::error (the value is held back); under report it is reported and sent,
+  /// ``reported`` remembering that until the value is finite again.
+  bool written(std::size_t pf, const char* name, const char* buffer, const char* reason, bool finite,
+               bool& reported) noexcept {
+    if (finite) {
+      reported = false;
+      return true;
+    }
+    if (nonFinite() == NonFinite::error) {
+      pfFailed(pf, name, reason);
+      return false;
+    }
+    if (!reported) {
+      reported = true;
+      if (Observer* o = observer()) o->nonFinite(*this, name, buffer, steps_);
+    }
+    return true;
+  }
+
  protected:
   /// A queued input found full: tell the observer how many values were lost.
   void overflowed(const char* buffer, std::uint64_t lost) const noexcept {
@@ -203,6 +233,7 @@ class Subsystem : public Component {
     current_ = state;
     iteration_ = 0;
     entered_ = true;
+    entered();  // every pf healthy again, inError() false
     if (Observer* o = observer()) {
       o->stateChanged(*this, from, tables_.states[state].name, via != nullptr ? via->name : nullptr, steps_);
     }

@@ -233,6 +233,14 @@ class SwitchPrintObserver final : public SwitchObserver {
                   std::uint64_t step) noexcept override {
     lines_.overflowed(component, buffer, lost, step);
   }
+  void pfFailed(const Component& component, const char* pf, const char* reason,
+                std::uint64_t step) noexcept override {
+    lines_.pfFailed(component, pf, reason, step);
+  }
+  void nonFinite(const Component& component, const char* pf, const char* buffer,
+                 std::uint64_t step) noexcept override {
+    lines_.nonFinite(component, pf, buffer, step);
+  }
   void switched(const char* from, const char* to, const SwitchLatency& latency) noexcept override {
     if (latency.clock) {
       std::printf("switch %s -> %s in %.3f ms\n", from, to, static_cast<double>(latency.nanoseconds) / 1e6);
@@ -570,7 +578,7 @@ class Switch final : public SwitchControl {
 ///     instead of entering the state; the state is entered once the switch has opened.
 /// Self supplies the tables, the functions they point to and ``void resetData(bool restart)``.
 template <class Self>
-class SwitchedSubsystem : public Component {
+class SwitchedSubsystem : public Component, public Health {
  public:
   SwitchedSubsystem(const char* name, const FsmTables<Self>& tables, const bool* quiescent = nullptr) noexcept
       : Component(name), tables_(tables), quiescent_(quiescent), current_(tables.initial) {}
@@ -638,6 +646,34 @@ class SwitchedSubsystem : public Component {
  protected:
   void overflowed(const char* buffer, std::uint64_t lost) const noexcept {
     if (Observer* o = observer()) o->overflowed(*this, buffer, lost, steps_);
+  }
+
+ public:
+  /// The pf number ``pf`` (``name``) failed for ``reason``: behaviourOk() is false until the
+  /// subsystem enters a state; the observer hears of the pf's first failure in the state.
+  void pfFailed(std::size_t pf, const char* name, const char* reason) noexcept {
+    if (!markFailed(pf)) return;
+    if (Observer* o = observer()) o->pfFailed(*this, name, reason, steps_);
+  }
+  /// After the pf number ``pf`` ran: whether the value it wrote into ``buffer`` may be sent.
+  /// ``finite``: every number in it is; ``reason``: the failure a non-finite one is under
+  /// NonFinite::error (the value is held back); under report it is reported and sent,
+  /// ``reported`` remembering that until the value is finite again.
+  bool written(std::size_t pf, const char* name, const char* buffer, const char* reason, bool finite,
+               bool& reported) noexcept {
+    if (finite) {
+      reported = false;
+      return true;
+    }
+    if (nonFinite() == NonFinite::error) {
+      pfFailed(pf, name, reason);
+      return false;
+    }
+    if (!reported) {
+      reported = true;
+      if (Observer* o = observer()) o->nonFinite(*this, name, buffer, steps_);
+    }
+    return true;
   }
 
  private:
@@ -743,7 +779,9 @@ class SwitchedSubsystem : public Component {
     entered_ = false;
     (self.*behaviour.receive)();
     ++steps_;
-    if ((self.*behaviour.error)() || (self.*behaviour.terminal)()) {
+    const bool error = (self.*behaviour.error)();
+    setInError(error);  // inError(): read by tc and the guards of this iteration, by ec in the next
+    if (error || (self.*behaviour.terminal)()) {
       const TransitionDef<Self>* next =
           selectTransition(self, tables_.transitions, tables_.transitionCount, current_);
       if (next == nullptr) {
@@ -769,6 +807,7 @@ class SwitchedSubsystem : public Component {
     current_ = state;
     iteration_ = 0;
     entered_ = true;
+    entered();  // every pf healthy again, inError() false
     if (Observer* o = observer()) {
       o->stateChanged(*this, from, tables_.states[state].name, via != nullptr ? via->name : nullptr, steps_);
     }

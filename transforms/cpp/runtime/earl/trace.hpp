@@ -1,4 +1,4 @@
-// earl runtime: an observer printing state changes and queue overflows, one line each, to stdout.
+// earl runtime: an observer printing state changes, queue overflows and failing pf, one line each, to stdout.
 // Part of earl-m2t's C++ target; header-only, C++17.
 #pragma once
 
@@ -24,6 +24,15 @@ class PrintObserver final : public Observer {
                   std::uint64_t step) noexcept override {
     std::printf("step %" PRIu64 " %s: %s overflowed, %" PRIu64 " value(s) lost\n", step, component.name(), buffer,
                 lost);
+  }
+  void pfFailed(const Component& component, const char* pf, const char* reason,
+                std::uint64_t step) noexcept override {
+    std::printf("step %" PRIu64 " %s: %s failed: %s\n", step, component.name(), pf, reason);
+  }
+  void nonFinite(const Component& component, const char* pf, const char* buffer,
+                 std::uint64_t step) noexcept override {
+    std::printf("step %" PRIu64 " %s: %s wrote a non-finite number into %s (sent)\n", step, component.name(), pf,
+                buffer);
   }
 };
 

@@ -19,7 +19,7 @@ class assist_pf final : public assist_pf_base {
  public:
   using assist_pf_base::assist_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& command = taskCommand_ob();
     step_mo() += 1;
     command.base.vx = 0.2;

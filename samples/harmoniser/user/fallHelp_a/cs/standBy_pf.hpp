@@ -18,7 +18,7 @@ class standBy_pf final : public standBy_pf_base {
  public:
   using standBy_pf_base::standBy_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& command = taskCommand_ob();
     command.base = {};
     command.arm = {};

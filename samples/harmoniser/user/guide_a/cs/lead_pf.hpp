@@ -19,7 +19,7 @@ class lead_pf final : public lead_pf_base {
  public:
   using lead_pf_base::lead_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& command = taskCommand_ob();
     waypoint_mo() += 1;
     command.base.vx = 0.4;

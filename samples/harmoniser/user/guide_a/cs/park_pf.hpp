@@ -19,7 +19,7 @@ class park_pf final : public park_pf_base {
  public:
   using park_pf_base::park_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& command = taskCommand_ob();
     command.base = {};
     command.seq = ++seq_mo();

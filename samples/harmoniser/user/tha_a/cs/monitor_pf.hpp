@@ -12,7 +12,7 @@ class monitor_pf final : public monitor_pf_base {
  public:
   using monitor_pf_base::monitor_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const bool fallen = fallAlarm_ib().fallen;
     if (fallen && !raised_) falls_mo() += 1;
     raised_ = fallen;

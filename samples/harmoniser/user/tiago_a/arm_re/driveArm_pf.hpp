@@ -12,7 +12,7 @@ class driveArm_pf final : public driveArm_pf_base {
  public:
   using driveArm_pf_base::driveArm_pf_base;
 
-  void execute() noexcept override { feedback_ob() = drive_ib(); }
+  void execute() override { feedback_ob() = drive_ib(); }
 };
 
 }  // namespace Harmoniser::tiago_a::arm_re

@@ -12,7 +12,7 @@ class regulateArm_pf final : public regulateArm_pf_base {
  public:
   using regulateArm_pf_base::regulateArm_pf_base;
 
-  void execute() noexcept override { drive_ob() = command_ib(); }
+  void execute() override { drive_ob() = command_ib(); }
 };
 
 }  // namespace Harmoniser::tiago_a::arm_ve

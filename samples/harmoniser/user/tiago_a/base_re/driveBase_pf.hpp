@@ -12,7 +12,7 @@ class driveBase_pf final : public driveBase_pf_base {
  public:
   using driveBase_pf_base::driveBase_pf_base;
 
-  void execute() noexcept override { feedback_ob() = drive_ib(); }
+  void execute() override { feedback_ob() = drive_ib(); }
 };
 
 }  // namespace Harmoniser::tiago_a::base_re

@@ -12,7 +12,7 @@ class regulateBase_pf final : public regulateBase_pf_base {
  public:
   using regulateBase_pf_base::regulateBase_pf_base;
 
-  void execute() noexcept override { drive_ob() = command_ib(); }
+  void execute() override { drive_ob() = command_ib(); }
 };
 
 }  // namespace Harmoniser::tiago_a::base_ve

@@ -13,7 +13,7 @@ class control_pf final : public control_pf_base {
  public:
   using control_pf_base::control_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const auto& task = taskCommand_ib();
     baseCommand_ob() = task.base;
     armCommand_ob() = task.arm;

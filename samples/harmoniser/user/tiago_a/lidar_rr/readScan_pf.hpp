@@ -16,7 +16,7 @@ class readScan_pf final : public readScan_pf_base {
  public:
   using readScan_pf_base::readScan_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const bool lying = scans_ >= harmoniser::kFallFrom && scans_ < harmoniser::kFallUntil;
     scan_ob().ranges[0] = lying ? harmoniser::kLying : harmoniser::kStanding;
     ++scans_;

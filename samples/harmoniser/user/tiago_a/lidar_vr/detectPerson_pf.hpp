@@ -14,7 +14,7 @@ class detectPerson_pf final : public detectPerson_pf_base {
  public:
   using detectPerson_pf_base::detectPerson_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const double height = scan_ib().ranges[0];
     person_ob().fallen = height > 0.0 && height < harmoniser::kFallenBelow;
   }

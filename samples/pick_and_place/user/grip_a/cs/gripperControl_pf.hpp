@@ -18,7 +18,7 @@ class gripperControl_pf final : public gripperControl_pf_base {
  public:
   using gripperControl_pf_base::gripperControl_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const auto& command = gripperCommand_ib();
     const auto& finger = fingerState_ib();
     const double current = regulator_.current(command.desiredFingerPos, finger.motorPos);

@@ -15,7 +15,7 @@ class regulateFinger_pf final : public regulateFinger_pf_base {
  public:
   using regulateFinger_pf_base::regulateFinger_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const auto& command = motorControllerCommand_ib();
     desiredCurrent_ob().current = stage_.current(command.desiredWindingCurrent, command.emergencyStopCommand);
     motorControllerState_ob().motorPos = encoder_ib().position;

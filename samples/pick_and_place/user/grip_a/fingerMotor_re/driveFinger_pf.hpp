@@ -13,7 +13,7 @@ class driveFinger_pf final : public driveFinger_pf_base {
  public:
   using driveFinger_pf_base::driveFinger_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     motor_.step(desiredCurrent_ib().current, position_mo());
     encoder_ob().position = position_mo();
   }

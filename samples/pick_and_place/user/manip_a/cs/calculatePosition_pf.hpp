@@ -17,7 +17,7 @@ class calculatePosition_pf final : public calculatePosition_pf_base {
  public:
   using calculatePosition_pf_base::calculatePosition_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& joints = currentJointPos_mo();
     for (std::size_t k = 0; k < motorControllerStateK_ib_count; ++k) joints.q[k] = motorControllerStateK_ib(k).motorPos;
     const auto& q = joints.q;

@@ -13,7 +13,7 @@ class emergencyStop_pf final : public emergencyStop_pf_base {
  public:
   using emergencyStop_pf_base::emergencyStop_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     bool stop = manipulatorCommand_ib().emergencyStopCommand;
     for (std::size_t k = 0; k < motorControllerStateK_ib_count; ++k) {
       stop = stop || motorControllerStateK_ib(k).emergencyStopCommand;

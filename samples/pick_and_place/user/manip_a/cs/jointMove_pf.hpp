@@ -24,7 +24,7 @@ class jointMove_pf final : public jointMove_pf_base {
  public:
   using jointMove_pf_base::jointMove_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     namespace sample = ::pick_and_place;
     // The guards into jointMove hold only on a fresh setpoint, so the first iteration after
     // entering the state sees it (newData lasts until the next receive).

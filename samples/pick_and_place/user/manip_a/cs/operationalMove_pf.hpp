@@ -15,7 +15,7 @@ class operationalMove_pf final : public operationalMove_pf_base {
  public:
   using operationalMove_pf_base::operationalMove_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     for (std::size_t k = 0; k < windingCurrentK_count; ++k) windingCurrentK_mo(k) = 0.0;
     motionFinished_mo() = true;
   }

@@ -20,7 +20,7 @@ class outputManipState_pf final : public outputManipState_pf_base {
  public:
   using outputManipState_pf_base::outputManipState_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& state = manipulatorState_ob();
     state.currentJointPos = currentJointPos_mi();
     state.currentOperationalPos = currentOperationalPos_mi();

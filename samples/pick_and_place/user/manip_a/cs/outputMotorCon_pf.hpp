@@ -20,7 +20,7 @@ class outputMotorCon_pf final : public outputMotorCon_pf_base {
  public:
   using outputMotorCon_pf_base::outputMotorCon_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     bool anyStop = false;
     for (std::size_t k = 0; k < motorControllerCommandK_ob_count; ++k) {
       const bool stop = emergencyStopCommandK_mi(k);

@@ -15,7 +15,7 @@ class passiveRegulation_pf final : public passiveRegulation_pf_base {
  public:
   using passiveRegulation_pf_base::passiveRegulation_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     for (std::size_t k = 0; k < windingCurrentK_count; ++k) windingCurrentK_mo(k) = 0.0;
   }
 };

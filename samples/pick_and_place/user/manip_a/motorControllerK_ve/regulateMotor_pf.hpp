@@ -19,7 +19,7 @@ class regulateMotor_pf final : public regulateMotor_pf_base {
  public:
   using regulateMotor_pf_base::regulateMotor_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const auto& command = motorControllerCommand_ib();
     desiredCurrent_ob().current = stage_.current(command.desiredWindingCurrent, command.emergencyStopCommand);
     motorControllerState_ob().motorPos = encoder_ib().position;

@@ -15,7 +15,7 @@ class driveMotor_pf final : public driveMotor_pf_base {
  public:
   using driveMotor_pf_base::driveMotor_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     motor_.step(desiredCurrent_ib().current, position_mo());
     encoder_ob().position = position_mo();
   }

@@ -12,7 +12,7 @@ class holdCommands_pf final : public holdCommands_pf_base {
  public:
   using holdCommands_pf_base::holdCommands_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& command = manipulatorCommand_ob();
     command.jointPosSetpoint.clear();
     command.operationalPosSetpoint.clear();

@@ -35,7 +35,7 @@ class planTask_pf final : public planTask_pf_base {
   static constexpr double kFingerOpen = 0.04;
   static constexpr std::uint64_t kDwellCycles = 100;
 
-  void execute() noexcept override {
+  void execute() override {
     auto& command = manipulatorCommand_ob();
     auto& gripper = gripperCommand_ob();
     command.jointPosSetpoint.clear();

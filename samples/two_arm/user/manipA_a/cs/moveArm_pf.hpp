@@ -21,7 +21,7 @@ class moveArm_pf final : public moveArm_pf_base {
  public:
   using moveArm_pf_base::moveArm_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     const auto& command = manipulatorCommand_ib();
     if (manipulatorCommand_ib_newData() && command.seq > lastSeq_mo()) {
       lastSeq_mo() = command.seq;

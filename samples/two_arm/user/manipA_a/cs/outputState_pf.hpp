@@ -12,7 +12,7 @@ class outputState_pf final : public outputState_pf_base {
  public:
   using outputState_pf_base::outputState_pf_base;
 
-  void execute() noexcept override {
+  void execute() override {
     manipulatorState_ob().lastSeq = lastSeq_mi();
     manipulatorState_ob().busy = !motionFinished_mi();
   }

@@ -13,7 +13,7 @@ class holdCommand_pf final : public holdCommand_pf_base {
  public:
   using holdCommand_pf_base::holdCommand_pf_base;
 
-  void execute() noexcept override { manipulatorCommand_ob().seq = nextSeq_mi(); }
+  void execute() override { manipulatorCommand_ob().seq = nextSeq_mi(); }
 };
 
 }  // namespace TwoArm::task_a::cs

@@ -23,7 +23,7 @@ class sendCommand_pf final : public sendCommand_pf_base {
 
   static constexpr std::int64_t kPerArm = 10;
 
-  void execute() noexcept override {
+  void execute() override {
     // the memory this pf writes is also what it reads (the _mo accessors)
     if (sentToArm_mo() >= kPerArm) {
       sentToArm_mo() = 1;
