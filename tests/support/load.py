@@ -105,6 +105,7 @@ def stop(process: subprocess.Popen[str], graceful: bool = True) -> None:
         return
     if process.poll() is not None:
         return
+    started = [(pid, _start_time(pid)) for pid in descendants(process.pid)]  # nodes in sessions of their own
     try:
         os.killpg(process.pid, 2)
         process.wait(5)
@@ -116,3 +117,17 @@ def stop(process: subprocess.Popen[str], graceful: bool = True) -> None:
         except ProcessLookupError:
             pass
         process.wait()
+    for pid, began in started:  # what the launch did not stop in time (it was killed, or lost a node)
+        if began is not None and _start_time(pid) == began:  # the same process, not a reused pid
+            try:
+                os.kill(pid, 9)
+            except ProcessLookupError:
+                pass
+
+
+def _start_time(pid: int) -> int | None:
+    """When ``pid`` started (clock ticks since boot), None when it is gone."""
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()[19])
+    except (OSError, IndexError, ValueError):
+        return None
