@@ -3,7 +3,9 @@
 
 #include "earl/component.hpp"
 #include "earl/port.hpp"
+#include "earl/realtime.hpp"
 #include "earl/runner.hpp"
 #include "earl/subsystem.hpp"
 #include "earl/trace.hpp"
 #include "earl/types.hpp"
+#include "earl/wake.hpp"
