@@ -18,8 +18,7 @@ Each runs unloaded, then loaded (one spinning process per CPU, started by the be
 CPU time (utime + stime from /proc/PID/stat) over a few seconds of (a) the event-driven reader
 waiting with nothing written and (b) the sample's ``manip/a`` agent executable (its inputs from
 other agents unconnected: no command comes; its 12 motor and controller subsystems stay
-periodic at 1 ms), for
-the wake word and for polling.
+periodic at 1 ms), for the wake word and for polling.
 
 Prints p50, p99 and max latency in microseconds, the ratios p99 wake / p99 condition variable
 (target <= 1.5) and p99 wake / p99 polling (target < 1), and idle CPU in % of one core (target
