@@ -170,13 +170,12 @@ def main(argv: list[str] | None = None) -> int:
         with context:
             for name in PROGRAMS:
                 rows.append({"load": load, "program": name, **handoffs(binaries[name], args.samples)})
-    idle = [
-        {"what": "event-driven reader waiting, nothing written", "target": True,
-         **{name: idle_cpu([str(binaries[name]), "--idle", str(args.idle + 2)], args.idle) for name in ("wake", "poll")}},
-        {"what": "sample manip/a agent (cs waits; 12 periodic at 1 ms)", "target": False,
-         **{name: idle_cpu([str(agent[name]), "--threaded", str(args.idle + 2), "--quiet"], args.idle)
-            for name in ("wake", "poll")}},
-    ]
+    seconds = str(args.idle + 2)
+    reader = {name: idle_cpu([str(binaries[name]), "--idle", seconds], args.idle) for name in ("wake", "poll")}
+    sample = {name: idle_cpu([str(agent[name]), "--threaded", seconds, "--quiet"], args.idle)
+              for name in ("wake", "poll")}
+    idle = [{"what": "event-driven reader waiting, nothing written", "target": True, **reader},
+            {"what": "sample manip/a agent (cs waits; 12 periodic at 1 ms)", "target": False, **sample}]
     report(rows, idle)
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
