@@ -73,7 +73,7 @@ def components_of(source: str) -> dict[str, Component]:
         name = block.split()[0]
         component = Component()
         members = {m: kind for kind, m in re.findall(r"^  RTT::(Input|Output)Port<.*> (\w+);$", block, re.M)}
-        for port, member in re.findall(r'addPort\("(\w+)", (\w+)\)', block):
+        for port, member in re.findall(r'add(?:Event)?Port\("(\w+)", (\w+)\)', block):
             (component.inputs if members[member] == "Input" else component.outputs).add(port)
         for service, operation in re.findall(r'(\w+)->addOperation\("(\w+)"', block):
             component.services.setdefault(service, set()).add(operation)
