@@ -40,9 +40,6 @@ FABRIC_FOLDER = "fabric"  # the FABRIC packages' folder in the output (transform
 
 # subsystem kinds by their distance from the control subsystem (FABRIC's top/bottom sides)
 _RANK = {"cs": 0, "ve": 1, "vr": 1, "re": 2, "rr": 2}
-# seconds: the periodic activity of a master whose subsystem is activated by buffer groups; each
-# updateHook() looks whether the next iteration is ready (the lock-free channels wake no one)
-POLL_PERIOD = 0.0002
 
 
 @dataclass(frozen=True)
@@ -215,7 +212,7 @@ class _Builder:
                 "type": entry["master_type"],
                 "library": entry["library"], "pfs": pfs, "buffers": entry["buffers"], "io": [],
                 "event_driven": entry["event_driven"],
-                "period": POLL_PERIOD if entry["event_driven"] else target.period,
+                "period": 0.0 if entry["event_driven"] else target.period,
                 "priority": target.priority, "scheduler": target.scheduler,
                 "policy": target.policy, "package": entry["library"], "trace": sub.path}
 
@@ -338,6 +335,8 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
     ports = {p["member"]: p for p in definition["ports"]}
     template_of = {definition["port_members"][b.template]: b for b in sub.buffers}
     kinds = _sides(model, sub)
+    # inputs obligatory in some buffer group: event ports, whose data wakes the master
+    obligatory = {p["member"] for group in definition["groups"] for p in group["ports"]}
     buffers: list[Data] = []
     for member, port in ports.items():
         buf = template_of[member]
@@ -347,6 +346,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
             buffers.append({"port": master_ports.take(name), "type": port["type"], "access": f"data.{member}{at}",
                             "direction": buf.direction, "template": buf.template, "index": index,
                             "queue": port.get("queue", 0),
+                            "event": buf.direction == "in" and member in obligatory,
                             "ros": xml_text(ros_message(buf.datatype, buf.path)),
                             "side": kinds.get(instance_path, "top"), "member": member, "trace": instance_path})
 

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cstdint>
 
+#include "earl/wake.hpp"
+
 namespace earl {
 
 class Component;
@@ -64,6 +66,16 @@ class Component {
     (void)now;
     return true;
   }
+  /// When ready() may next hold without a delivery into an input, asked after ready() said
+  /// no: the runner sleeps until then or until a value comes (Clock::time_point::max(): no
+  /// deadline, only a value or a wake-up). ``onData`` false: a value cannot make it ready
+  /// before the deadline (its minimal period), so deliveries need not wake it.
+  virtual Clock::time_point nextDeadline(Clock::time_point now, bool& onData) noexcept {
+    onData = false;
+    return now;
+  }
+  /// The wake word the channels into this component's inputs signal (earl/wake.hpp).
+  Wake& wake() noexcept { return wake_; }
 
   std::chrono::nanoseconds period() const noexcept { return period_; }
   void setPeriod(std::chrono::nanoseconds period) noexcept { period_ = period; }
@@ -79,6 +91,7 @@ class Component {
   std::chrono::nanoseconds period_{std::chrono::milliseconds(1)};
   Observer* observer_ = nullptr;
   NonFinite nonFinite_ = NonFinite::error;
+  Wake wake_;
 };
 
 }  // namespace earl

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "earl/wake.hpp"
+
 namespace earl {
 
 /// One link: a single-producer single-consumer "latest value" mailbox (a triple buffer).
@@ -21,11 +23,23 @@ class Channel {
   Channel(const Channel&) = delete;
   Channel& operator=(const Channel&) = delete;
 
+  /// Stores ``value`` and wakes the reader (signal()).
   void write(const T& value) noexcept {
+    store(value);
+    signal();
+  }
+  /// Stores ``value`` without waking the reader yet (a gated link signals past its gate).
+  void store(const T& value) noexcept {
     slots_[back_] = value;
     const unsigned previous = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel);
     back_ = previous & kIndex;
   }
+  /// Tells the reader's wake word that a value came (a system call only if it sleeps on it).
+  void signal() noexcept {
+    if (reader_ != nullptr) reader_->data();
+  }
+  /// Wiring: the wake word of the component reading this channel (nullptr: none).
+  void setReader(Wake* reader) noexcept { reader_ = reader; }
 
   /// A value written since the last read() waits (the consumer's side; does not take it).
   bool fresh() const noexcept { return (middle_.load(std::memory_order_acquire) & kFresh) != 0u; }
@@ -47,6 +61,7 @@ class Channel {
   unsigned back_ = 0;   // the producer's slot
   unsigned front_ = 1;  // the consumer's slot
   std::atomic<unsigned> middle_{2u};
+  Wake* reader_ = nullptr;
 };
 
 /// One link into a queued Input Buffer: a single-producer single-consumer ring of Capacity
@@ -63,6 +78,10 @@ class QueueChannel {
   QueueChannel& operator=(const QueueChannel&) = delete;
 
   void write(const T& value) noexcept {
+    store(value);
+    signal();
+  }
+  void store(const T& value) noexcept {
     const std::size_t tail = tail_.load(std::memory_order_relaxed);
     if (tail - head_.load(std::memory_order_acquire) == kSlots) {
       overflows_.fetch_add(1, std::memory_order_relaxed);
@@ -71,6 +90,10 @@ class QueueChannel {
     slots_[tail % kSlots] = value;
     tail_.store(tail + 1, std::memory_order_release);
   }
+  void signal() noexcept {
+    if (reader_ != nullptr) reader_->data();
+  }
+  void setReader(Wake* reader) noexcept { reader_ = reader; }
 
   /// The oldest value not read yet; false when the queue is empty.
   bool read(T& out) noexcept {
@@ -92,6 +115,7 @@ class QueueChannel {
   std::atomic<std::size_t> head_{0};  // the consumer's index
   std::atomic<std::size_t> tail_{0};  // the producer's index
   std::atomic<std::uint64_t> overflows_{0};
+  Wake* reader_ = nullptr;
 };
 
 /// An Input Buffer (ib): ``msg`` holds the last value received. Queue == 0 (EARL's latest
@@ -104,11 +128,20 @@ class InputPort {
   using value_type = T;
   using channel_type = std::conditional_t<Queue == 0, Channel<T>, QueueChannel<T, (Queue == 0 ? 1 : Queue)>>;
 
-  /// Wiring, at initialisation only; false when more than MaxLinks links are connected.
+  /// Wiring, at initialisation only; false when more than MaxLinks links are connected. The
+  /// channel learns the wake word of the component reading this port.
   bool connect(channel_type& channel) noexcept {
     if (count_ == MaxLinks) return false;
     links_[count_++] = &channel;
+    channel.setReader(wake_);
     return true;
+  }
+
+  /// Wiring, at initialisation only: the wake word of the component owning this port, told
+  /// to every channel connected before or after.
+  void setWake(Wake& wake) noexcept {
+    wake_ = &wake;
+    for (std::size_t i = 0; i < count_; ++i) links_[i]->setReader(wake_);
   }
 
   /// EARL receive(): newData() is true until the next receive() when this one delivered
@@ -161,6 +194,7 @@ class InputPort {
   std::uint64_t reported_ = 0;
   std::array<channel_type*, MaxLinks> links_{};
   std::size_t count_ = 0;
+  Wake* wake_ = nullptr;
 };
 
 /// An Output Buffer (ob): pf write msg(); send() copies it to every linked channel.

@@ -127,10 +127,7 @@ class Subsystem : public Component, public Health {
       waiting_ = true;
       waitStart_ = now;
     }
-    const Clock::duration gap = a.minPeriodNs >= 0 ? Clock::duration(std::chrono::nanoseconds(a.minPeriodNs))
-                                : a.obligatory != nullptr ? Clock::duration::zero()
-                                                          : Clock::duration(period());
-    if (now < lastStart_ + gap) return false;
+    if (now < lastStart_ + activationGap(a)) return false;
     if (a.obligatory == nullptr) return take(now);
     const Self& self = static_cast<const Self&>(*this);
     if ((self.*a.obligatory)()) return take(now);
@@ -140,6 +137,20 @@ class Subsystem : public Component, public Health {
       return take(now);
     }
     return false;
+  }
+
+  /// After ready() said no at ``now``: the end of the minimal period (no value can make it
+  /// ready before), else the timeout of the wait (or none), waking on data meanwhile.
+  Clock::time_point nextDeadline(Clock::time_point now, bool& onData) noexcept override {
+    onData = false;
+    if (tables_.activations == nullptr || !ran_) return now;
+    const ActivationDef<Self>& a = tables_.activations[current_];
+    const Clock::time_point earliest = lastStart_ + activationGap(a);
+    if (now < earliest) return earliest;
+    if (a.obligatory == nullptr) return now;
+    onData = true;
+    const std::int64_t timeout = entered_ ? a.firstTimeoutNs : a.nextTimeoutNs;
+    return timeout >= 0 ? waitStart_ + std::chrono::nanoseconds(timeout) : Clock::time_point::max();
   }
 
   void updateHook() noexcept override {
@@ -221,6 +232,13 @@ class Subsystem : public Component, public Health {
   }
 
  private:
+  /// The least time between the starts of two iterations in a state (its minimal period).
+  Clock::duration activationGap(const ActivationDef<Self>& a) const noexcept {
+    return a.minPeriodNs >= 0 ? Clock::duration(std::chrono::nanoseconds(a.minPeriodNs))
+           : a.obligatory != nullptr ? Clock::duration::zero()
+                                     : Clock::duration(period());
+  }
+
   bool take(Clock::time_point now) noexcept {
     ran_ = true;
     waiting_ = false;

@@ -92,8 +92,9 @@ class VariableLink : public Ch {
 
   void write(const value_type& value) noexcept {
     if (!gate_.enter()) return;
-    Ch::write(value);
+    Ch::store(value);
     gate_.leave();
+    Ch::signal();  // after leave(): a leaving reader also waits for the gate to be quiet
   }
 
   Gate& gate() noexcept { return gate_; }
@@ -125,6 +126,11 @@ class SwitchedInputPort {
   bool connect(channel_type& channel) noexcept { return add(channel, nullptr); }
   /// A variable link; at initialisation only.
   bool connect(VariableLink<channel_type>& link) noexcept { return add(link, &link.gate()); }
+  /// The wake word of the component owning this port (InputPort::setWake()).
+  void setWake(Wake& wake) noexcept {
+    wake_ = &wake;
+    for (std::size_t i = 0; i < count_; ++i) links_[i]->setReader(wake_);
+  }
 
   bool receive() noexcept {
     bool fresh = false;
@@ -182,6 +188,7 @@ class SwitchedInputPort {
     if (count_ == MaxLinks) return false;
     gates_[count_] = gate;
     links_[count_++] = &channel;
+    channel.setReader(wake_);
     return true;
   }
 
@@ -192,6 +199,7 @@ class SwitchedInputPort {
   std::array<channel_type*, MaxLinks> links_{};
   std::array<const Gate*, MaxLinks> gates_{};
   std::size_t count_ = 0;
+  Wake* wake_ = nullptr;
 };
 
 /// Calls ``object.reset()`` when the class has one (the optional hook of user pf classes).
@@ -292,6 +300,7 @@ class AgentMember {
   template <class>
   friend class SwitchedSubsystem;
   std::atomic<bool> busy_{false};
+  Wake* wake_ = nullptr;  // the subsystem's: woken when its agent's phase changes
   AgentMember* next_ = nullptr;
   std::uint32_t epoch_ = 0;
 };
@@ -344,10 +353,19 @@ class AgentSlot {
     member.next_ = members_;
     members_ = &member;
   }
-  void set(Phase phase) noexcept { phase_.store(phase, std::memory_order_seq_cst); }
+  void set(Phase phase) noexcept {
+    phase_.store(phase, std::memory_order_seq_cst);
+    wakeMembers();
+  }
   void activate() noexcept {
     epoch_.fetch_add(1, std::memory_order_release);
     set(Phase::active);
+  }
+  /// A sleeping subsystem of the agent looks at the new phase (leaving, stopped, active).
+  void wakeMembers() noexcept {
+    for (AgentMember* m = members_; m != nullptr; m = m->next_) {
+      if (m->wake_ != nullptr) m->wake_->notify();
+    }
   }
 
   const char* name_;
@@ -588,6 +606,7 @@ class SwitchedSubsystem : public Component, public Health {
   void joinAgent(AgentSlot& agent, bool control) noexcept {
     agent_ = &agent;
     control_ = control;
+    member_.wake_ = &wake();
     agent.add(member_);
   }
 
@@ -614,6 +633,22 @@ class SwitchedSubsystem : public Component, public Health {
     const bool result = readyToRun(now);
     release();
     return result;
+  }
+
+  /// After ready() said no: sleep until activated while the agent is stopped; the next poll
+  /// while a switch is pending; otherwise Subsystem::nextDeadline().
+  Clock::time_point nextDeadline(Clock::time_point now, bool& onData) noexcept override {
+    onData = false;
+    if (agent_ != nullptr && agent_->phase() == AgentSlot::Phase::stopped) return Clock::time_point::max();
+    if (pending_ != nullptr) return lastStart_ + period();
+    if (tables_.activations == nullptr || !ran_) return now;
+    const ActivationDef<Self>& a = tables_.activations[current_];
+    const Clock::time_point earliest = lastStart_ + activationGap(a);
+    if (now < earliest) return earliest;
+    if (a.obligatory == nullptr) return now;
+    onData = true;
+    const std::int64_t timeout = entered_ ? a.firstTimeoutNs : a.nextTimeoutNs;
+    return timeout >= 0 ? waitStart_ + std::chrono::nanoseconds(timeout) : Clock::time_point::max();
   }
 
   void updateHook() noexcept override {
@@ -740,10 +775,7 @@ class SwitchedSubsystem : public Component, public Health {
       waiting_ = true;
       waitStart_ = now;
     }
-    const Clock::duration gap = a.minPeriodNs >= 0 ? Clock::duration(std::chrono::nanoseconds(a.minPeriodNs))
-                                : a.obligatory != nullptr ? Clock::duration::zero()
-                                                          : Clock::duration(period());
-    if (now < lastStart_ + gap) return false;
+    if (now < lastStart_ + activationGap(a)) return false;
     if (a.obligatory == nullptr) return take(now);
     const Self& self = static_cast<const Self&>(*this);
     if ((self.*a.obligatory)()) return take(now);
@@ -793,6 +825,12 @@ class SwitchedSubsystem : public Component, public Health {
         enter(next->target, next);
       }
     }
+  }
+
+  Clock::duration activationGap(const ActivationDef<Self>& a) const noexcept {
+    return a.minPeriodNs >= 0 ? Clock::duration(std::chrono::nanoseconds(a.minPeriodNs))
+           : a.obligatory != nullptr ? Clock::duration::zero()
+                                     : Clock::duration(period());
   }
 
   bool take(Clock::time_point now) noexcept {

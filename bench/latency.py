@@ -1,0 +1,187 @@
+"""Wake-up latency and idle CPU of the threaded C++ runtime.
+
+    python bench/latency.py                       # 10,000 hand-offs per row
+    python bench/latency.py --samples 20000 --json bench/out/latency.json
+
+Builds, with g++ -O2, three programs doing the same hand-off (``bench/cpp/latency.hpp``): a
+writer thread writes the current time into an input and waits until the reader took it, then
+pauses 100..400 us; the reader records, at the start of the iteration the value woke, how long
+ago it was written:
+
+* ``earl wake word``: ``bench/cpp/latency_earl.cpp``, an event-driven earl subsystem (its
+  obligatory input fed by an ``earl::Channel``) run by ``earl::ThreadedRunner``;
+* ``earl polling 100 us``: the same source built with ``-DEARL_WAKE_POLL=1`` (the former
+  runner loop, which looks at ready() every 100 us; kept for this comparison only);
+* ``std::condition_variable``: ``bench/cpp/latency_cv.cpp``, the hand-off written by hand.
+
+Each runs unloaded, then loaded (one spinning process per CPU, started by the bench). Then the
+CPU time (utime + stime from /proc/PID/stat) over a few seconds of (a) the event-driven reader
+waiting with nothing written and (b) the sample's ``manip/a`` agent executable (its inputs from
+other agents unconnected: no command comes; its 12 motor and controller subsystems stay
+periodic at 1 ms), for the wake word and for polling.
+
+Prints p50, p99 and max latency in microseconds, the ratios p99 wake / p99 condition variable
+(target <= 1.5) and p99 wake / p99 polling (target < 1), and idle CPU in % of one core (target
+< 2 % for the waiting reader). Nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parent
+ROOT = BENCH.parent
+SOURCES = BENCH / "cpp"
+RUNTIME = ROOT / "transforms" / "cpp" / "runtime"
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+CXXFLAGS = ["-std=c++17", "-O2", "-DNDEBUG", "-Wall", "-Wextra", "-Werror", "-pthread"]
+POLL = "-DEARL_WAKE_POLL=1"
+TARGET_CV = 1.5
+TARGET_POLL = 1.0
+TARGET_IDLE = 2.0  # % of one core
+HOG = "while True:\n    pass\n"
+PROGRAMS = {  # name: (source, extra flags)
+    "wake": ("latency_earl.cpp", []),
+    "poll": ("latency_earl.cpp", [POLL]),
+    "cv": ("latency_cv.cpp", []),
+}
+
+
+def build(cxx: str, source: Path, binary: Path, *flags: str) -> None:
+    command = [cxx, *CXXFLAGS, *flags, str(source), "-o", str(binary)]
+    result = subprocess.run(command, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"build failed: {' '.join(command)}\n{result.stderr}")
+
+
+def build_agent(cxx: str, out: Path) -> dict[str, Path]:
+    """The sample's manip/a agent executable, with the wake word and with polling."""
+    gen = out / "gen"
+    shutil.rmtree(gen / "user", ignore_errors=True)
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(SAMPLE), "--target", "cpp", "-o", str(gen)],
+                            cwd=ROOT, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"earl-m2t gen failed:\n{result.stdout}{result.stderr}")
+    includes = [f"-I{gen / d}" for d in ("runtime", "generated/include", "user")]
+    binaries = {}
+    for name, flags in (("wake", []), ("poll", [POLL])):
+        binaries[name] = out / f"manip_a_{name}"
+        build(cxx, gen / "generated" / "src" / "manip_a_main.cpp", binaries[name], *includes, *flags)
+    return binaries
+
+
+@contextmanager
+def cpu_hogs(count: int) -> Iterator[None]:
+    hogs = [subprocess.Popen([sys.executable, "-c", HOG], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL) for _ in range(count)]
+    try:
+        time.sleep(0.5)  # spinning before the first sample
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+        for hog in hogs:
+            hog.wait()
+
+
+def handoffs(binary: Path, samples: int) -> dict:
+    result = subprocess.run([str(binary), "--samples", str(samples)], capture_output=True, text=True, timeout=600)
+    if result.returncode != 0:
+        sys.exit(f"{binary.name} failed:\n{result.stderr}")
+    row: dict = json.loads(result.stdout.strip().splitlines()[-1])
+    return row
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def idle_cpu(command: list[str], window: float) -> float:
+    """% of one core the process uses over ``window`` seconds, from 1 s after its start."""
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(1.0)
+        first, started = cpu_seconds(process.pid), time.perf_counter()
+        time.sleep(window)
+        used, elapsed = cpu_seconds(process.pid) - first, time.perf_counter() - started
+    finally:
+        _, stderr = process.communicate(timeout=60)
+    if process.returncode != 0:
+        sys.exit(f"{command[0]} failed:\n{stderr}")
+    return 100.0 * used / elapsed
+
+
+def report(rows: list[dict], idle: list[dict]) -> None:
+    header = f"{'load':<9} {'variant':<26} {'samples':>8} {'p50 us':>9} {'p99 us':>9} {'max us':>10}"
+    print(header)
+    print("-" * len(header))
+    for row in rows:
+        print(f"{row['load']:<9} {row['variant']:<26} {row['samples']:>8} {row['p50_us']:>9.2f} {row['p99_us']:>9.2f} "
+              f"{row['max_us']:>10.2f}")
+    print()
+    for load in ("unloaded", "loaded"):
+        by = {r["program"]: r for r in rows if r["load"] == load}
+        cv, poll = by["wake"]["p99_us"] / by["cv"]["p99_us"], by["wake"]["p99_us"] / by["poll"]["p99_us"]
+        print(f"{load:<9} p99 wake / p99 condition variable = {cv:.2f}  (target <= {TARGET_CV}: "
+              f"{'ok' if cv <= TARGET_CV else 'MISSED'});  p99 wake / p99 polling = {poll:.2f}  "
+              f"(target < {TARGET_POLL}: {'ok' if poll < TARGET_POLL else 'MISSED'})")
+    print()
+    print(f"{'idle CPU, % of one core':<50} {'wake':>8} {'polling':>8}")
+    for entry in idle:
+        verdict = ""
+        if entry["target"]:
+            verdict = f"  target < {TARGET_IDLE} %: {'ok' if entry['wake'] < TARGET_IDLE else 'MISSED'}"
+        print(f"{entry['what']:<50} {entry['wake']:>8.2f} {entry['poll']:>8.2f}{verdict}")
+    print("latency: from the write into the obligatory input to the start of the reader's iteration; "
+          "loaded: one spinning process per CPU.")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--samples", type=int, default=10_000, help="hand-offs per row (at least 10,000 advised)")
+    parser.add_argument("--idle", type=float, default=4.0, help="seconds of each idle CPU measurement")
+    parser.add_argument("--out", type=Path, default=BENCH / "out" / "latency", help="work folder")
+    parser.add_argument("--cxx", default=os.environ.get("CXX", "g++"), help="C++ compiler (default $CXX or g++)")
+    parser.add_argument("--json", type=Path, help="also write the figures to this file")
+    args = parser.parse_args(argv)
+    if shutil.which(args.cxx) is None:
+        sys.exit(f"{args.cxx} not found")
+    args.out.mkdir(parents=True, exist_ok=True)
+    binaries = {}
+    for name, (source, flags) in PROGRAMS.items():
+        binaries[name] = args.out / f"latency_{name}"
+        build(args.cxx, SOURCES / source, binaries[name], f"-I{RUNTIME}", f"-I{SOURCES}", *flags)
+    agent = build_agent(args.cxx, args.out)
+    cpus = os.cpu_count() or 2
+    print(f"{args.samples:,} hand-offs per row, {cpus} CPU(s); {args.cxx} {' '.join(CXXFLAGS[:3])}")
+    rows = []
+    for load in ("unloaded", "loaded"):
+        context = cpu_hogs(cpus) if load == "loaded" else contextmanager(lambda: iter([None]))()
+        with context:
+            for name in PROGRAMS:
+                rows.append({"load": load, "program": name, **handoffs(binaries[name], args.samples)})
+    seconds = str(args.idle + 2)
+    reader = {name: idle_cpu([str(binaries[name]), "--idle", seconds], args.idle) for name in ("wake", "poll")}
+    sample = {name: idle_cpu([str(agent[name]), "--threaded", seconds, "--quiet"], args.idle)
+              for name in ("wake", "poll")}
+    idle = [{"what": "event-driven reader waiting, nothing written", "target": True, **reader},
+            {"what": "sample manip/a agent (cs waits; 12 periodic at 1 ms)", "target": False, **sample}]
+    report(rows, idle)
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps({"latency": rows, "idle_cpu_percent": idle}, indent=2) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
