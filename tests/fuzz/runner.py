@@ -115,7 +115,7 @@ class Case:
 def seed_files(max_bytes: int | None = None) -> list[Path]:
     """The four sample dialects, the fixtures and the corpus (when beside the checkout), sorted."""
     folders = [ROOT / "samples", ROOT / "tests" / "fixtures", CORPUS]
-    found = []
+    found: list[Path] = []
     for folder in folders:
         if folder.is_dir():
             found.extend(p for p in folder.rglob("*") if p.is_file() and p.name.lower().endswith(MODEL_SUFFIXES)
@@ -332,7 +332,8 @@ class Campaign:
                     slot = next(slot_numbers)
                     parent, child = self._context.Pipe()
                     arguments = (child, self.seed_number, self.pool, self.packages, str(scratch / f"w{slot}"))
-                    process = self._context.Process(target=_worker, args=arguments, daemon=True)
+                    process: multiprocessing.process.BaseProcess = self._context.Process(
+                        target=_worker, args=arguments, daemon=True)
                     process.start()
                     child.close()
                     index = pending.pop()
@@ -392,7 +393,7 @@ class Campaign:
 
     def save(self, result: Result, folder: Path = REGRESSIONS) -> Path:
         """A failing input as a regression: the file (a FABRIC package: its folder), and beside it
-        what was run and what happened; for a diff against the seed, the seed too (``….seed``)."""
+        what was run and what happened; for a diff against the seed, the seed too (``NAME.seed.SUFFIX``)."""
         case = self.case(result.index)
         digest = hashlib.sha256(case.data + repr(case.package).encode()).hexdigest()[:12]
         folder.mkdir(parents=True, exist_ok=True)
@@ -403,7 +404,7 @@ class Campaign:
         else:
             path.write_bytes(case.data)
         if "SEED" in case.command:
-            path.with_name(path.name + ".seed").write_bytes(case.seed.path.read_bytes())
+            path.with_name(path.name + ".seed" + case.suffix).write_bytes(case.seed.path.read_bytes())
         origin = case.seed.path
         shown = origin.relative_to(ROOT) if origin.is_relative_to(ROOT) else \
             origin.relative_to(ROOT.parent) if origin.is_relative_to(ROOT.parent) else Path(origin.name)
