@@ -1,17 +1,24 @@
-"""The fuzz campaign: seeded mutations of the sample dialects, the corpus and the fixtures, run
-through the command line in-process, in worker processes watched by a per-input bound.
+"""The fuzz campaign: seeded mutations of the sample dialects, the corpus, the fixtures and the
+FABRIC examples, run through the command line in-process, in worker processes watched by a
+per-input bound.
 
-Input ``i`` of seed ``s`` is fully determined by ``(s, i)``: which seed file, which mutations,
-which command (mostly ``check``; also ``show``, ``convert`` and ``gen --force`` for a target).
-Each worker runs its inputs one after the other in one process (``earl_m2t.cli.app.main``, output
-captured), under an address-space limit; the parent gives every input a generous bound of the
-worker's CPU time (``--bound``, 60 s; a worker starved by a busy machine is not counted) and of
-wall time (``WALL_FACTOR`` times as long: an input blocked without using the CPU), and counts an
-input that exceeds either as a hang: the worker is killed and a new one goes on with the next
-input. An input counts as a failure when the command ends in an internal error (exit 3, or an
-exception escaping ``main``), in an exit code other than 0, 1 or 2, or in a hang; failing inputs
-are written to the regression folder (``tests/fuzz/regressions``), which ``tests/test_fuzz.py``
-replays.
+Input ``i`` of seed ``s`` is fully determined by ``(s, i)``: which seed file (or FABRIC
+package), which mutations, which command (``COMMANDS``: mostly ``check``; also ``show``,
+``convert``, ``gen --force`` for a target, ``diff`` of the input and its seed either way,
+``verify --timeout 2``, ``report``; a FABRIC package goes through ``import fabric`` and a check
+of what it wrote). Each worker runs its inputs one after the other in one process
+(``earl_m2t.cli.app.main``, output captured), under an address-space limit; the parent gives
+every input a bound of the worker's CPU time (``--bound``, 60 s; a worker starved by a busy
+machine is not counted) and of wall time (``WALL_FACTOR`` times as long: an input blocked
+without using the CPU), and counts an input that exceeds either as a hang: the worker is killed
+and a new one goes on with the next input.
+
+An input fails (``tests/fuzz/properties.py``) on an internal error, an exit code outside its
+command's table, SPIN refusing the Promela verify wrote, a hang, a peak resident memory over
+1 GiB (measured per input: ``tests/fuzz/memory.py``), a convert that exits 0 whose text does not
+read back as the same EARL model (``diff`` of source and text), or a check that exits 0 of a
+model some target of transforms/targets.toml does not generate. Failing inputs are written to
+the regression folder (``tests/fuzz/regressions``), which ``tests/test_fuzz.py`` replays.
 
     python tests/fuzz/runner.py --inputs 100000 --seed 1 --jobs 2     # what `make fuzz` runs
 """
