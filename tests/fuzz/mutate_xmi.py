@@ -11,8 +11,7 @@ from collections.abc import Callable
 
 from lxml import etree
 
-XMI_ID = "{http://www.omg.org/spec/XMI/20131001}id"
-XMI_TYPE = "{http://www.omg.org/spec/XMI/20131001}type"
+XMI = "http://www.omg.org/spec/XMI/20131001"
 
 # numbers broken models hold: huge, negative, not a number, beyond 32 and 64 bits, not numbers at all
 HOSTILE_NUMBERS = (
@@ -32,8 +31,18 @@ BASE_ATTRIBUTES = (
 
 
 def _id_of(element: etree._Element) -> str | None:
-    value = element.get(XMI_ID) or element.get("xmi.id") or element.get("id")
-    return value if isinstance(value, str) else None
+    """The element's ``xmi:id`` whatever the XMI version's namespace (EA writes XMI 2.1)."""
+    return next((v for k, v in element.attrib.items() if k.endswith("}id") or k in ("xmi.id", "id")), None)
+
+
+def _type_of(element: etree._Element) -> str:
+    return next((v for k, v in element.attrib.items() if k.endswith("}type")), "")
+
+
+def _keys(root: etree._Element) -> tuple[str, str]:
+    """The ``xmi:id`` and ``xmi:type`` attribute names of the document's XMI namespace."""
+    namespace = (root.nsmap or {}).get("xmi") or XMI
+    return f"{{{namespace}}}id", f"{{{namespace}}}type"
 
 
 def _new_id(rng: random.Random) -> str:
@@ -51,7 +60,7 @@ def rewire_reference(root: etree._Element, rng: random.Random) -> bool:
     elements = [el for el in root.iter() if isinstance(el.tag, str)]
     ids = {value for el in elements if (value := _id_of(el))}
     candidates = [(el, key) for el in elements for key, value in el.attrib.items()
-                  if key not in (XMI_ID, XMI_TYPE) and (key == "href" or value in ids)]
+                  if not key.endswith(("}id", "}type")) and (key == "href" or value in ids)]
     if not candidates:
         return False
     element, key = rng.choice(candidates)
@@ -74,7 +83,7 @@ def rewire_reference(root: etree._Element, rng: random.Random) -> bool:
 
 def _typed(root: etree._Element, *types: str) -> list[etree._Element]:
     return [el for el in root.iter() if isinstance(el.tag, str) and _id_of(el)
-            and (el.get(XMI_TYPE) or "").split(":")[-1] in types]
+            and _type_of(el).split(":")[-1] in types]
 
 
 def generalization_cycle(root: etree._Element, rng: random.Random) -> bool:
@@ -84,8 +93,9 @@ def generalization_cycle(root: etree._Element, rng: random.Random) -> bool:
         return False
     first = rng.choice(classes)
     second = rng.choice(classes)
+    xmi_id, xmi_type = _keys(root)
     for special, general in ((first, second), (second, first)):
-        etree.SubElement(special, "generalization", {XMI_TYPE: "uml:Generalization", XMI_ID: _new_id(rng),
+        etree.SubElement(special, "generalization", {xmi_type: "uml:Generalization", xmi_id: _new_id(rng),
                                                      "general": _id_of(general) or ""})
     return True
 
@@ -95,11 +105,12 @@ def package_imports_itself(root: etree._Element, rng: random.Random) -> bool:
     if not packages:
         return False
     package = rng.choice(packages)
+    xmi_id, xmi_type = _keys(root)
     if rng.random() < 0.5:
-        etree.SubElement(package, "packageImport", {XMI_TYPE: "uml:PackageImport", XMI_ID: _new_id(rng),
+        etree.SubElement(package, "packageImport", {xmi_type: "uml:PackageImport", xmi_id: _new_id(rng),
                                                     "importedPackage": _id_of(package) or ""})
     else:
-        link = etree.SubElement(package, "packageImport", {XMI_TYPE: "uml:PackageImport", XMI_ID: _new_id(rng)})
+        link = etree.SubElement(package, "packageImport", {xmi_type: "uml:PackageImport", xmi_id: _new_id(rng)})
         etree.SubElement(link, "importedPackage", {"href": f"input.uml#{_id_of(package)}"})
     return True
 
@@ -110,18 +121,24 @@ def region_in_itself(root: etree._Element, rng: random.Random) -> bool:
     if not regions:
         return False
     region = rng.choice(regions)
-    state = etree.SubElement(region, "subvertex", {XMI_TYPE: "uml:State", XMI_ID: _new_id(rng), "name": "loop"})
+    xmi_id, xmi_type = _keys(root)
+    state = etree.SubElement(region, "subvertex", {xmi_type: "uml:State", xmi_id: _new_id(rng), "name": "loop"})
     if rng.random() < 0.5:
         etree.SubElement(state, "region", {"href": f"#{_id_of(region)}"})
     else:
-        etree.SubElement(state, "region", {XMI_TYPE: "uml:Region", XMI_ID: _id_of(region) or ""})
+        etree.SubElement(state, "region", {xmi_type: "uml:Region", xmi_id: _id_of(region) or ""})
     return True
+
+
+def _applications(root: etree._Element) -> list[etree._Element]:
+    """The stereotype applications: elements with a ``base_…`` attribute, wherever the tool puts them."""
+    return [el for el in root.iter() if isinstance(el.tag, str) and any(k.startswith("base_") for k in el.attrib)]
 
 
 def swap_stereotype(root: etree._Element, rng: random.Random) -> bool:
     """An application moved to an element of another metaclass, its base attribute renamed, or
     its stereotype replaced by another EARL stereotype on the same element."""
-    applications = [el for el in root if isinstance(el.tag, str) and any(k.startswith("base_") for k in el.attrib)]
+    applications = _applications(root)
     if not applications:
         return False
     application = rng.choice(applications)
@@ -144,8 +161,8 @@ def hostile_number(root: etree._Element, rng: random.Random) -> bool:
     """A multiplicity bound, a literal's value or a tagged value made a hostile number."""
     places = [(el, "value") for el in root.iter() if isinstance(el.tag, str)
               and etree.QName(el).localname in ("lowerValue", "upperValue", "defaultValue", "specification")]
-    places += [(el, key) for el in root if isinstance(el.tag, str) for key in el.attrib
-               if not key.startswith("base_") and key != XMI_ID]
+    places += [(el, key) for el in _applications(root) for key in el.attrib
+               if not key.startswith("base_") and not key.endswith("}id")]
     if not places:
         return False
     element, key = rng.choice(places)
