@@ -30,7 +30,7 @@ from tests.fuzz.runner import REGRESSIONS, Campaign, Result, failures, seeds, su
 ROOT = Path(__file__).resolve().parents[1]
 
 SEED = 20261124
-INPUTS = 600  # each input runs more commands than a check: a clean check runs every target
+INPUTS = 700  # each input runs more commands than a check: a clean check runs every target
 CPU_SECONDS = 30  # what a replayed input may take (docs/untrusted-models.md)
 FAILED = ROOT / "tests" / "fuzz" / "failed"
 DIALECTS = {"papyrus", "cameo", "enterprise-architect", "sysml-v2"}
