@@ -1,12 +1,15 @@
-"""The fuzz campaign in the test suite: a short seeded run, and the replay of every input that
-once failed (``tests/fuzz/regressions``).
+"""The fuzz campaign in the test suite: a short seeded run, the replay of every input that
+once failed (``tests/fuzz/regressions``), and the properties shown to fail on made-up runs.
 
 The short run is the first ``INPUTS`` inputs of seed ``SEED`` of ``tests/fuzz/runner.py`` (the
-long campaign is ``make fuzz``): seeded mutations of the four sample dialects, the fixtures and
-the corpus, run through the command line in-process by two worker processes, each input within
-a generous bound that only a hang exceeds. Every input must end in exit 0, 1 or 2 without an
-internal error. A failing input is written to ``tests/fuzz/failed/`` (git-ignored) with a note
-of its command; move it into ``tests/fuzz/regressions/`` with the fix.
+long campaign is ``make fuzz``): seeded mutations of the four sample dialects, the fixtures, the
+corpus and the FABRIC examples, run through the command line in-process by two worker
+processes, each input within a generous bound that only a hang exceeds. Every input must end in
+an exit code of its command's table (``tests/fuzz/properties.EXIT_CODES``) without an internal
+error, and hold the properties: a convert reads back as its source, a clean check lets every
+target generate, the peak resident memory stays under 1 GiB. A failing input is written to
+``tests/fuzz/failed/`` (git-ignored) with a note of its command; move it into
+``tests/fuzz/regressions/`` with the fix. A replayed input is held to 30 s of CPU time.
 """
 
 from __future__ import annotations
@@ -15,37 +18,69 @@ import json
 import resource
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import pytest
 
-from tests.fuzz.runner import REGRESSIONS, Campaign, failures, seeds, summary
+from tests.fuzz import properties
+from tests.fuzz.properties import EXIT_CODES, Run
+from tests.fuzz.runner import REGRESSIONS, Campaign, Result, failures, seeds, summary
 
 ROOT = Path(__file__).resolve().parents[1]
 
 SEED = 20261124
-INPUTS = 2400
+INPUTS = 700  # each input runs more commands than a check: a clean check runs every target
+CPU_SECONDS = 30  # what a replayed input may take (docs/untrusted-models.md)
 FAILED = ROOT / "tests" / "fuzz" / "failed"
 DIALECTS = {"papyrus", "cameo", "enterprise-architect", "sysml-v2"}
+# Failures of earl-m2t the campaign found and that are not fixed yet: (class, a part of the
+# message, what is wrong). The short run warns of each input they match (and writes it to
+# tests/fuzz/failed/) instead of failing; remove an entry with its fix.
+KNOWN_DEFECTS: tuple[tuple[str, str, str], ...] = (
+    (properties.SPIN, "spin -a failed: spin: model.pml:1, Error: syntax error",
+     "verify of a model without subsystem processes (tests/fixtures/guide/route-*.uml, unmutated too) hands "
+     "SPIN a specification that is only its header comment"),
+    (properties.CHECK_GEN, "cannot become ROS names",
+     "check passes fields that gen --target msg refuses as colliding ROS names (D004, duplicated fields)"),
+    (properties.CHECK_GEN, "two generated files map to the path",
+     "check passes agents whose C++ files collide (duplicated elements): gen --target cpp refuses them"),
+    (properties.CHECK_GEN, "template agent.launch.j2: 'dict object' has no attribute 'links'",
+     "gen --target ros fails in its launch template on a Cameo model check passes (input 247 of the short run)"),
+)
 
 
-def test_a_short_campaign_ends_every_input_in_exit_0_1_or_2() -> None:
+def test_a_short_campaign_ends_every_input_as_its_command_allows_and_holds_the_properties() -> None:
     campaign = Campaign(SEED, seeds(), bound=120.0, jobs=2)
     results = campaign.run(0, INPUTS)
     assert [r.index for r in results] == list(range(INPUTS))
-    assert {r.dialect for r in results} >= DIALECTS, summary(results)
+    assert {r.dialect for r in results} >= DIALECTS | {"fabric"}, summary(results)
+    assert {r.command for r in results} == set(EXIT_CODES), summary(results)
     bad = failures(results)
-    saved = [campaign.save(result, FAILED) if result.code in (3, -1) else Path("-") for result in bad]
-    assert not bad, "\n".join(f"{r.command} {path}: {r.message}" for r, path in zip(bad, saved)) + \
+    saved = [campaign.save(result, FAILED) for result in bad]
+    known = [(r, path) for r, path in zip(bad, saved) if _known(r)]
+    for result, path in known:  # shown in pytest's summary of warnings, never passed over in silence
+        warnings.warn(f"known defect, not fixed yet: input {result.index} ({result.command}) {path.name}: "
+                      f"{result.message[:300]}", stacklevel=1)
+    unknown = [(r, path) for r, path in zip(bad, saved) if not _known(r)]
+    assert not unknown, "\n".join(f"{r.command} {path}: {r.message}" for r, path in unknown) + \
         "\n" + summary(results)
 
 
+def _known(result: Result) -> bool:
+    """Every failure of the input is one of KNOWN_DEFECTS."""
+    return all(any(kind == known_kind and text in message for known_kind, text, _ in KNOWN_DEFECTS)
+               for kind, message in result.failures)
+
+
 def _regressions() -> list[Path]:
-    return sorted(p for p in REGRESSIONS.iterdir() if p.is_file() and not p.name.endswith(".json"))
+    """Each input: a model file, or a FABRIC package's folder (not the notes, nor a diff's seed)."""
+    return sorted(p for p in REGRESSIONS.iterdir() if not p.name.endswith(".json") and ".seed." not in p.name)
 
 
 def _limited() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+    resource.setrlimit(resource.RLIMIT_CPU, (CPU_SECONDS, CPU_SECONDS))
 
 
 def test_the_regression_folder_holds_inputs_with_notes() -> None:
@@ -53,19 +88,75 @@ def test_the_regression_folder_holds_inputs_with_notes() -> None:
     assert inputs
     for path in inputs:
         note = json.loads(path.with_name(path.name + ".json").read_text(encoding="utf-8"))
-        assert note["command"] and note["command"][0] in ("check", "show", "convert", "gen"), path.name
+        assert note["command"] and note["command"][0] in EXIT_CODES, path.name
+        assert "SEED" not in note["command"] or path.with_name(path.name + ".seed" + path.suffix).is_file(), path.name
+
+
+def _argv(command: list[str], model: Path, out: Path) -> list[str]:
+    """A note's command line: ``MODEL``, ``SEED`` and ``OUT`` in place (an older note names no
+    ``MODEL``: the model goes last, ``-o`` after it for gen and convert)."""
+    if "MODEL" not in command:
+        extra = {"gen": ["-o", str(out)], "convert": ["-o", str(out / "converted.sysml")]}.get(command[0], [])
+        return [*command, str(model), *extra]
+    places = {"MODEL": str(model), "SEED": str(model.with_name(model.name + ".seed" + model.suffix)), "OUT": str(out)}
+    return [places.get(word, word) if not word.startswith("OUT/") else str(out / word[4:]) for word in command]
 
 
 @pytest.mark.parametrize("model", _regressions(), ids=lambda p: p.name)
-def test_a_regression_input_ends_in_exit_0_1_or_2(model: Path, tmp_path: Path) -> None:
+def test_a_regression_input_ends_as_its_command_allows(model: Path, tmp_path: Path) -> None:
     command = json.loads(model.with_name(model.name + ".json").read_text(encoding="utf-8"))["command"]
-    argv = [*command, str(model)]
-    if command[0] == "gen":
-        argv += ["-o", str(tmp_path / "out")]
-    elif command[0] == "convert":
-        argv += ["-o", str(tmp_path / "converted.sysml")]
+    (tmp_path / "out").mkdir()
+    argv = _argv(command, model, tmp_path / "out")
     result = subprocess.run([sys.executable, "-m", "earl_m2t", *argv], cwd=tmp_path, capture_output=True, text=True,
-                            timeout=300, preexec_fn=_limited)
-    text = result.stdout + result.stderr
-    assert result.returncode in (0, 1, 2), text[-2000:]
-    assert "internal error" not in text and "Traceback" not in text, text[-2000:]
+                            timeout=CPU_SECONDS * 10, preexec_fn=_limited)
+    assert properties.contract(Run(tuple(argv), result.returncode, result.stdout + result.stderr)) is None, \
+        (result.stdout + result.stderr)[-2000:]
+
+
+# Each property fails on a made-up run that breaks it, and holds on one that keeps it.
+
+def test_the_contract_fails_on_an_internal_error_a_bad_exit_code_and_spin_refusing_the_promela() -> None:
+    assert properties.contract(Run(("check", "m.uml"), 1, "m.uml:3: error: …")) is None
+    assert properties.contract(Run(("verify", "m.uml"), 3, "not proven: the time bound")) is None
+    internal = properties.contract(Run(("check", "m.uml"), 3, "earl-m2t: internal error: KeyError: '-'"))
+    assert internal is not None and internal.kind == properties.INTERNAL and "KeyError" in internal.message
+    escaped = properties.contract(Run(("show", "m.uml"), None, "escaped main: RecursionError"))
+    assert escaped is not None and escaped.kind == properties.INTERNAL
+    assert properties.contract(Run(("gen", "m.uml"), 0, "Traceback (most recent call last):")) is not None
+    bad = properties.contract(Run(("check", "m.uml"), 3, "something"))
+    assert bad is not None and bad.kind == properties.BAD_EXIT
+    assert properties.contract(Run(("diff", "a", "b"), 4, "")) is not None
+    spin = properties.contract(Run(("verify", "m.uml"), 2, "earl-m2t: spin -a failed: syntax error"))
+    assert spin is not None and spin.kind == properties.SPIN
+
+
+def test_the_round_trip_fails_when_the_converted_text_differs_or_cannot_be_read() -> None:
+    assert properties.round_trip(Run(("diff", "m.uml", "c.sysml"), 0, "")) is None
+    for code in (1, 2):
+        failure = properties.round_trip(Run(("diff", "m.uml", "c.sysml"), code, "~ agent a: period"))
+        assert failure is not None and failure.kind == properties.ROUND_TRIP
+
+
+def test_check_then_gen_fails_when_a_target_refuses_a_model_check_passed() -> None:
+    good = [Run(("gen", "--target", t, "m.uml"), 0, "") for t in ("cpp", "ros")]
+    assert properties.check_then_gen(good) is None
+    failure = properties.check_then_gen([*good, Run(("gen", "--target", "orocos", "m.uml"), 1, "error: …")])
+    assert failure is not None and failure.kind == properties.CHECK_GEN and "orocos" in failure.message
+
+
+def test_the_memory_bound_fails_over_1_gib_for_an_input_under_10_mb() -> None:
+    assert properties.memory(900 << 10, 5000) is None
+    failure = properties.memory(1200 << 10, 5000)
+    assert failure is not None and failure.kind == properties.MEMORY and "1200 MiB" in failure.message
+    assert properties.memory(3 << 20, 11 << 20) is None  # the bound is for inputs under 10 MB
+
+
+def test_the_peak_memory_of_an_input_is_measured_on_its_own() -> None:
+    from tests.fuzz.memory import peak_kb, reset_peak
+
+    ballast = bytearray(200 << 20)
+    ballast[::4096] = b"x" * len(ballast[::4096])
+    high = peak_kb()
+    del ballast
+    assert reset_peak(), "this kernel does not reset VmHWM through /proc/self/clear_refs"
+    assert peak_kb() < high - (150 << 10)

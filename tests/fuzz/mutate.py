@@ -1,4 +1,6 @@
-"""Deterministic mutations of model files: bytes, XML trees, ``.mdzip`` archives and SysML v2 text.
+"""Deterministic mutations of model files: bytes, XML trees, ``.mdzip`` archives and SysML v2 text
+(the XMI structure's own mutations are in ``mutate_xmi``, SysML v2 tokens in ``mutate_sysml``,
+FABRIC packages in ``mutate_fabric``).
 
 Every mutation draws from the ``random.Random`` it is given, so one (seed, input number) always
 gives the same input. The hostile values are the ones broken models are made of: names of tens
@@ -17,6 +19,8 @@ import zipfile
 from lxml import etree
 
 from earl_m2t.read.safe_xml import parse_xml_bytes
+from tests.fuzz.mutate_sysml import mutate_tokens
+from tests.fuzz.mutate_xmi import mutate_structure
 
 # files the runner puts beside every input (see runner.prepare_folder)
 HOSTILE_HREFS = (
@@ -125,8 +129,10 @@ def mutate_tree(data: bytes, rng: random.Random) -> bytes:
         return mutate_bytes(data, rng)
     target = rng.choice(elements[1:])
     parent = target.getparent()
-    kind = rng.randrange(7)
-    if kind == 0 and parent is not None:
+    kind = rng.randrange(10)
+    if kind >= 7:  # references, containment cycles, stereotype applications, numbers
+        mutate_structure(root, rng)
+    elif kind == 0 and parent is not None:
         parent.remove(target)
     elif kind == 1 and parent is not None:
         for _ in range(rng.choice((1, 2, 100))):
@@ -184,9 +190,11 @@ def mutate_text(data: bytes, rng: random.Random) -> bytes:
     except UnicodeDecodeError:
         return mutate_bytes(data, rng)
     tokens = _TOKEN.findall(text) or [""]
-    kind = rng.randrange(8)
+    kind = rng.randrange(12)
     at = rng.randrange(len(tokens))
-    if kind == 0:
+    if kind >= 8:  # keywords, operators, brackets, numbers, hostile quoted names, long guards
+        tokens = mutate_tokens(tokens, rng)
+    elif kind == 0:
         del tokens[at:at + rng.choice((1, 1, 3, 20))]
     elif kind == 1:
         tokens[at:at] = tokens[at:at + rng.choice((1, 5, 40))] * rng.choice((1, 2, 30))
