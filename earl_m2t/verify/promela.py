@@ -140,6 +140,8 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
         lines.append(f"{prefix}byte {info.variable} = {initial}; "
                      f"/* {promela_comment(sub.path)}: {promela_comment(names)} */")
     _write_processes(spec, bodies, lines)
+    if not spec.processes and rc is None:  # SPIN needs a process: every subsystem stays where it starts
+        lines.append("init { skip } /* no subsystem's iteration changes what the checks observe */")
     if rc is not None:
         for item in switch_process(rc, _switch_view(model, spec)):
             lines.append(item[0] if isinstance(item, tuple) else item)
