@@ -90,6 +90,9 @@ NEW_JOINT = "newJointPos/pp.fun ∧ ¬emergencyStop/pp.fun"
 NEW_OPERATIONAL = "newOperationalPos/pp.fun ∧ ¬emergencyStop/pp.fun"
 NO_EMERGENCY = "¬emergencyStop/pp.fun"
 EMERGENCY = "emergencyStop/pp.fun"
+# into emergencyStop also when the behaviour's error condition held (a pf failed: ¬behaviourOk())
+EMERGENCY_OR_ERROR = "emergencyStop/pp.fun ∨ inError()"
+BEHAVIOUR_FAILED = "¬behaviourOk()"
 MOTION_TC = "motionFinished/pp.fun ∨ emergencyStop/pp.fun"
 IDLE_TC = "newJointPos/pp.fun ∨ newOperationalPos/pp.fun ∨ emergencyStop/pp.fun"
 COMMAND_QUEUE = 8  # manip/a.cs's manipulatorCommand/ib: task/a's commands, in order
@@ -308,16 +311,17 @@ def manipulator_control(pkg: Package, dt: DataTypes) -> Block:
     fsm.transition(joint, idle, NO_EMERGENCY)
     fsm.transition(operational, idle, NO_EMERGENCY)
     for source in (idle, joint, operational):
-        fsm.transition(source, stop, EMERGENCY, priority=2)
+        fsm.transition(source, stop, EMERGENCY_OR_ERROR, priority=2)
 
     # Table 7 and Fig. 15: stage 1 writes memory, stage 2 the output buffers.
-    for st, tc, pf in (
-        (idle, IDLE_TC, passive),
-        (joint, MOTION_TC, joint_move),
-        (operational, MOTION_TC, operational_move),
-        (stop, "false/pp.fun", emergency_stop),
+    # emergencyStop, the error state, has no way out: its ec stays FALSE
+    for st, tc, ec, pf in (
+        (idle, IDLE_TC, BEHAVIOUR_FAILED, passive),
+        (joint, MOTION_TC, BEHAVIOUR_FAILED, joint_move),
+        (operational, MOTION_TC, BEHAVIOUR_FAILED, operational_move),
+        (stop, "false/pp.fun", "FALSE", emergency_stop),
     ):
-        st.do_activity(tc=tc, ec="FALSE").stages([[calculate, pf], [output_state, output_motor]])
+        st.do_activity(tc=tc, ec=ec).stages([[calculate, pf], [output_state, output_motor]])
         st.stereotype("FsmState", MANIPULATOR_ACTIVATION)
     return cs
 

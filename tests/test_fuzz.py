@@ -38,15 +38,9 @@ DIALECTS = {"papyrus", "cameo", "enterprise-architect", "sysml-v2"}
 # message, what is wrong). The short run warns of each input they match (and writes it to
 # tests/fuzz/failed/) instead of failing; remove an entry with its fix.
 KNOWN_DEFECTS: tuple[tuple[str, str, str], ...] = (
-    (properties.SPIN, "spin -a failed: spin: model.pml:1, Error: syntax error",
-     "verify of a model without subsystem processes (tests/fixtures/guide/route-*.uml, unmutated too) hands "
-     "SPIN a specification that is only its header comment"),
     (properties.CHECK_GEN, "cannot become ROS names",
-     "check passes fields that gen --target msg refuses as colliding ROS names (D004, duplicated fields)"),
-    (properties.CHECK_GEN, "two generated files map to the path",
-     "check passes agents whose C++ files collide (duplicated elements): gen --target cpp refuses them"),
-    (properties.CHECK_GEN, "template agent.launch.j2: 'dict object' has no attribute 'links'",
-     "gen --target ros fails in its launch template on a Cameo model check passes (input 247 of the short run)"),
+     "check passes fields copied with their xmi:id (R002 warning) that gen --target msg refuses as colliding "
+     "ROS names (D004 reports one name twice only at two places)"),
 )
 
 

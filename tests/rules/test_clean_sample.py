@@ -76,15 +76,22 @@ def test_suffix_only_variant_carries_no_earl_stereotype(suffix_only: Path) -> No
 
 def test_suffix_only_variant_checks_clean(suffix_only: Path) -> None:
     """Clean but for the tags it cannot carry: without the priorities the self-transitions of
-    jointMove and operationalMove tie with the transitions back to idle (B006; model order
-    still picks the self-transition, as the priorities do in the sample); without the receive
+    jointMove and operationalMove tie with the transitions back to idle, and every transition
+    leaving on a command ties with the one into emergencyStop on inError() (B006; model order
+    picks the first, where the priorities pick emergencyStop in the sample); without the receive
     mode task/a's one-shot setpoint goes to a latest-value input (C009)."""
     findings = check(suffix_only)
     described = "\n".join(f"{d.code} {d.location}: {d.message}" for d in findings)
     assert [(d.code, d.element) for d in findings] == [
         ("C009", "manip/a.cs.manipulatorCommand/ib"),
+        ("B006", "manip/a.cs.fsm.idle,jointMove/t"),
         ("B006", "manip/a.cs.fsm.jointMove,jointMove/t"),
+        ("B006", "manip/a.cs.fsm.jointMove,jointMove/t"),
+        ("B006", "manip/a.cs.fsm.idle,operationalMove/t"),
         ("B006", "manip/a.cs.fsm.operationalMove,operationalMove/t"),
+        ("B006", "manip/a.cs.fsm.operationalMove,operationalMove/t"),
+        ("B006", "manip/a.cs.fsm.jointMove,idle/t"),
+        ("B006", "manip/a.cs.fsm.operationalMove,idle/t"),
     ], described
     assert check(suffix_only, CheckOptions(ignore=frozenset({"B006", "C009"}))) == [], described
 

@@ -1130,6 +1130,18 @@ def subsystem_group_holds_the_control_subsystem(s: Sample) -> Expect:
     return Expect(s.id(block.xpath("ownedAttribute")[0]), "ControlSubsystem")
 
 
+# ---- S012: paths ---------------------------------------------------------------------------
+
+
+def agent_named_twice(s: Sample) -> Expect:
+    """S012: the System gets a second part task/a typed by TaskAgent, as a copy-paste in a
+    modelling tool makes it: two Agents with one path."""
+    first = s.attribute("PickAndPlaceSystem", "task/a")
+    second = s.add(first.getparent(), "ownedAttribute", "uml:Property", after=first, name="task/a",
+                   type=first.get("type") or "", aggregation="composite")
+    return Expect(s.id(second), "task/a")
+
+
 Mutation = Callable[[Sample], Expect]
 
 VARIANTS: dict[str, Mutation] = {
@@ -1144,6 +1156,7 @@ VARIANTS: dict[str, Mutation] = {
     "S009": untyped_memory,
     "S010": agent_group_holds_a_subsystem,
     "S011": subsystem_group_holds_the_control_subsystem,
+    "S012": agent_named_twice,
     "C001": link_between_two_outputs,
     "C001-two-inputs": link_between_two_inputs,
     "C001-memory-end": link_to_a_memory,

@@ -26,11 +26,12 @@ VARIANTS: dict[str, tuple[list[tuple[str, str]], str, str]] = {
               ("connect 'task/a'.cs.'manipulatorCommand/ob' to "
                "'pickAndPlace/r'.'manip/a'.cs.'manipulatorCommand/ib';", "")],
              "manip/a.cs", "waits for manipulatorCommand/ib"),
-    "V003": ([("constraint tc { 'motionFinished/pp'() or 'emergencyStop/pp'() }",
-               f"constraint tc {{ {EXCLUSIVE} }}")],
+    "V003": ([("constraint tc { 'motionFinished/pp'() or 'emergencyStop/pp'() }\n"
+               "                        constraint ec { not behaviourOk() }",
+               f"constraint tc {{ {EXCLUSIVE} }}\n                        constraint ec {{ false }}")],
              "manip/a.cs.jointMove/bb", "never ends"),
     "V004": ([("first jointMove if not 'emergencyStop/pp'() then idle", "first jointMove if 'false/pp'() then idle"),
-              ("first jointMove if 'emergencyStop/pp'()\n", "first jointMove if 'false/pp'()\n")],
+              ("first jointMove if 'emergencyStop/pp'() or inError()\n", "first jointMove if 'false/pp'()\n")],
              "manip/a.cs.fsm.jointMove", "no way out"),
 }
 

@@ -12,6 +12,7 @@ from earl_m2t.check.rules import (  # noqa: F401
     groups,
     switching,
     transition,
+    unique,
     variability,
 )
 

@@ -90,6 +90,11 @@ def name_not_identifier(model: EarlModel) -> Iterator[Finding]:
             yield Finding(f"{path}: the name cannot become a C++ / ROS identifier: {problem}", location, path)
 
 
+def _paths_scope(scope: str) -> bool:
+    """Agents of a System and Subsystems of an Agent: one name twice is one path twice (S012)."""
+    return scope == "agents" or scope.endswith(" subsystems")
+
+
 @rule("D004")
 def identifier_collision(model: EarlModel) -> Iterator[Finding]:
     by_scope: dict[tuple[str, str], list[tuple[str, str, Location]]] = {}
@@ -99,7 +104,7 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
         if ros:
             by_ros_name.setdefault((scope, _ROS_KEYS[ros](name)), []).append((name, path, location))
     reported: set[str] = set()
-    for (_, key), items in by_scope.items():
+    for (scope, key), items in by_scope.items():
         if len(items) == 1:
             continue  # nearly every name: nothing to compare it with
         names = list(dict.fromkeys(name for name, _, _ in items))
@@ -108,7 +113,7 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
             reported.add(path)
             yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier or file "
                           f"name '{key}'", location, path)
-        elif len({loc for _, _, loc in items}) > 1:
+        elif len({loc for _, _, loc in items}) > 1 and not _paths_scope(scope):
             reported.add(path)
             yield Finding(f"{path}: {len(items)} elements are named '{names[0]}'", location, path)
     for (_, key), items in by_ros_name.items():
