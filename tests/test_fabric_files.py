@@ -55,9 +55,11 @@ def test_fabrics_parser_accepts_every_generated_spec(generated: Path) -> None:
     assert manip.predicates == ["emergencyStop", "motionFinished", "newJointPos", "newOperationalPos", "false_pp"]
     joint_move = next(s for s in manip.states if s.name == "jointMove")
     # highest priority first: emergencyStop (2), the self-transition (1), idle (0)
-    assert joint_move.next_states == [("emergencyStop", "emergencyStop"),
-                                      ("jointMove", "newJointPos and not emergencyStop"),
-                                      ("idle", "not emergencyStop and not (newJointPos and not emergencyStop)")]
+    # (FABRIC takes the first guard that holds: each one excludes those of higher priority)
+    assert joint_move.next_states == [
+        ("emergencyStop", "emergencyStop or IN_ERROR"),
+        ("jointMove", "newJointPos and not emergencyStop and not (emergencyStop or IN_ERROR)"),
+        ("idle", "not emergencyStop and not (emergencyStop or IN_ERROR) and not (newJointPos and not emergencyStop)")]
     # the sample's activation: each command of task/a activates an iteration of manip/a.cs
     assert [(g.name, g.obligatory, g.optional) for g in manip.buffer_groups] == [
         ("commands", ["manipulatorCommand"], [f"motorControllerState{k}" for k in range(1, 7)])]

@@ -101,9 +101,9 @@ def test_the_fsm_has_the_table_6_transitions_and_priorities(cs: Subsystem) -> No
         ("operationalMove", "operationalMove"): (new_oper, 1),
         ("jointMove", "idle"): ("¬emergencyStop/pp.fun", 0),
         ("operationalMove", "idle"): ("¬emergencyStop/pp.fun", 0),
-        ("idle", "emergencyStop"): ("emergencyStop/pp.fun", 2),
-        ("jointMove", "emergencyStop"): ("emergencyStop/pp.fun", 2),
-        ("operationalMove", "emergencyStop"): ("emergencyStop/pp.fun", 2),
+        ("idle", "emergencyStop"): ("emergencyStop/pp.fun ∨ inError()", 2),
+        ("jointMove", "emergencyStop"): ("emergencyStop/pp.fun ∨ inError()", 2),
+        ("operationalMove", "emergencyStop"): ("emergencyStop/pp.fun ∨ inError()", 2),
     }
 
 
