@@ -132,7 +132,7 @@ def test_a_model_written_by_hand_writes_the_built_ins_as_fabrics_flags(tmp_path:
     sd = fabric.parse_spec(spec)
     assert next(b for b in sd.behaviors if b.name == "idle").err_cond == "not CURRENT_BEHAVIOR_OK"
     joint_move = next(s for s in sd.states if s.name == "jointMove")
-    assert ("idle", "(IN_ERROR or not emergencyStop) and not emergencyStop and not (newJointPos and not emergencyStop)"
-            ) in joint_move.next_states
+    assert ("idle", "(IN_ERROR or not emergencyStop) and not (emergencyStop or IN_ERROR) "
+                    "and not (newJointPos and not emergencyStop)") in joint_move.next_states
     assert "IN_ERROR" not in sd.predicates and "CURRENT_BEHAVIOR_OK" not in sd.predicates
     assert unusable_conditions(sd) == []
