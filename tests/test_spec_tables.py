@@ -32,9 +32,9 @@ TABLE6_TRANSITIONS = {
     ("operationalMove", "operationalMove"): "newOperationalPos ∧ ¬emergencyStop",
     ("jointMove", "idle"): "¬emergencyStop",
     ("operationalMove", "idle"): "¬emergencyStop",
-    ("idle", "emergencyStop"): "emergencyStop",
-    ("jointMove", "emergencyStop"): "emergencyStop",
-    ("operationalMove", "emergencyStop"): "emergencyStop",
+    ("idle", "emergencyStop"): "emergencyStop ∨ inError()",
+    ("jointMove", "emergencyStop"): "emergencyStop ∨ inError()",
+    ("operationalMove", "emergencyStop"): "emergencyStop ∨ inError()",
 }
 # "Terminal conditions: idle: newJointPos ∨ newOperationalPos ∨ emergencyStop;
 #  jointMove, operationalMove: motionFinished ∨ emergencyStop; emergencyStop: false."

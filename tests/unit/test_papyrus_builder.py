@@ -389,9 +389,9 @@ def test_manipulator_control_fsm(tree: etree._ElementTree, by_id: dict[str, etre
         "operationalMove,operationalMove/t": "newOperationalPos/pp.fun ∧ ¬emergencyStop/pp.fun",
         "jointMove,idle/t": "¬emergencyStop/pp.fun",
         "operationalMove,idle/t": "¬emergencyStop/pp.fun",
-        "idle,emergencyStop/t": "emergencyStop/pp.fun",
-        "jointMove,emergencyStop/t": "emergencyStop/pp.fun",
-        "operationalMove,emergencyStop/t": "emergencyStop/pp.fun",
+        "idle,emergencyStop/t": "emergencyStop/pp.fun ∨ inError()",
+        "jointMove,emergencyStop/t": "emergencyStop/pp.fun ∨ inError()",
+        "operationalMove,emergencyStop/t": "emergencyStop/pp.fun ∨ inError()",
     }
 
 
@@ -436,7 +436,9 @@ def test_basic_behaviours_run_two_parallel_stages(tree: etree._ElementTree, by_i
     assert _names(activities) == list(expected_tc)
     for act in activities:
         rules = {r.get("name"): r.find("specification").findtext("body") for r in act.findall("ownedRule")}
-        assert rules == {"tc": expected_tc[act.get("name")], "ec": "FALSE"}
+        # a failing pf ends every behaviour but the error state's own (no way out of it)
+        ec = "FALSE" if act.get("name") == "emergencyStop/bb" else "¬behaviourOk()"
+        assert rules == {"tc": expected_tc[act.get("name")], "ec": ec}
         nodes = {n.get(XMI_ID): n for n in act.findall("node")}
         assert act.get("node").split() == list(nodes)
         edges = act.findall("edge")

@@ -168,7 +168,13 @@ def test_the_tags_are_those_of_the_catalogue(profile: Profile) -> None:
                       ("FsmState", "bufferGroup"), ("FsmState", "minPeriod"), ("FsmState", "firstTimeout"),
                       ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional"),
                       ("Agent", "reactivation"), ("FsmState", "configuration"), ("FsmState", "quiescent"),
-                      ("Configuration", "agents"), ("Configuration", "links"), ("Configuration", "switchTimeout")}
+                      ("Configuration", "agents"), ("Configuration", "links"), ("Configuration", "switchTimeout"),
+                      # what import fabric carries of FABRIC and the orocos target writes back
+                      ("FsmState", "behaviours"), ("FsmState", "exclusiveGuards"), ("FsmState", "firstTimeoutSim"),
+                      ("FsmState", "minPeriodSim"), ("FsmState", "usedTime"), ("InputBuffer", "channel"),
+                      ("InputBuffer", "converter"), ("InputBuffer", "side"), ("OutputBuffer", "channel"),
+                      ("OutputBuffer", "converter"), ("OutputBuffer", "side"), ("Subsystem", "triggerGazebo"),
+                      ("Subsystem", "useRosSimClock"), ("Subsystem", "useSimClock")}
 
 
 def test_receive_mode_defaults_to_the_latest_value(profile: Profile) -> None:

@@ -316,7 +316,7 @@ def test_the_shared_counts_are_those_of_the_paper_sample(samples: dict[str, Samp
     assert (counts["blocks"], counts["data types"], counts["ports"], counts["parts"]) == (12, 12, 24, 11)
     assert (counts["connectors"], counts["state machines"], counts["states"], counts["transitions"]) == (12, 7, 11, 17)
     assert (counts["activities"], counts["fork and join nodes"], counts["call behavior actions"]) == (11, 16, 23)
-    assert len(counts["guards"]) == 10 and counts["guards"].count("emergencyStop/pp.fun") == 3
+    assert len(counts["guards"]) == 10 and counts["guards"].count("emergencyStop/pp.fun ∨ inError()") == 3
     assert len(counts["pf parameters"]) == 14
     assert dict(counts["pf parameters"])["jointMove/pf"] == (
         ("manipulatorCommand/ib", "in"), ("motionFinished/mo", "out"),

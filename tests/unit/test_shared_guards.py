@@ -50,7 +50,7 @@ def test_a_twin_gets_the_same_witnesses_on_its_own_transitions_from_one_analysis
     model, sub = _manipulator()
     twin = _twin(model, sub)
     original, copied = _overlaps(model, sub), _overlaps(model, twin)
-    assert [w for _, _, w in original] == ["newJointPos ∧ newOperationalPos ∧ ¬emergencyStop"]
+    assert [w for _, _, w in original] == ["newJointPos ∧ newOperationalPos ∧ ¬emergencyStop ∧ ¬inError()"]
     assert [w for _, _, w in copied] == [w for _, _, w in original]
     assert twin.fsm is not None
     assert all(first in twin.fsm.transitions and second in twin.fsm.transitions for first, second, _ in copied)
