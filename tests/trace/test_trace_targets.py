@@ -77,7 +77,7 @@ def test_cpp_lines(generated: dict[str, Path], model: EarlModel) -> None:
     assert_traced(out, header, "bool ic_idle_jointMove_t() const", TRANSITION, model)
     assert_traced(out, header, '{"idle,jointMove/t", 0, 1, 0,', TRANSITION, model)
     assert_traced(out, header, "bool emergencyStop_pp() const", "manip/a.cs.emergencyStop/pp", model)
-    assert_traced(out, "generated/include/PickAndPlace/types.hpp", "desiredFingerPos",
+    assert_traced(out, "generated/include/PickAndPlace/types.hpp", "double desiredFingerPos{};",
                   "DataTypes::GripperCommand.desiredFingerPos", model)
     assert_traced(out, "generated/include/PickAndPlace/grip_a/agent.hpp",
                   "Channel<::PickAndPlace::types::MotorControllerCommand> link_cs_fingerController_ve;",
@@ -100,7 +100,8 @@ def test_orocos_lines(generated: dict[str, Path], model: EarlModel) -> None:
     out = generated["orocos"]
     fabric = "fabric/manip_a_cs/spec/subsystem.xml"
     assert_traced(out, fabric,
-                  '<next_state name="operationalMove" init_cond="newOperationalPos and not emergencyStop and',
+                  '<next_state name="operationalMove" init_cond="newOperationalPos and not emergencyStop and '
+                  'not (emergencyStop or IN_ERROR) and not (newJointPos',
                   "manip/a.cs.fsm.idle,operationalMove/t", model)
     assert_traced(out, fabric, '<state name="jointMove">', "manip/a.cs.fsm.jointMove", model)
     assert_traced(out, fabric, '<buffer_group name="commands">', "manip/a.cs.commands", model)
