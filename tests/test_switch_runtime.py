@@ -12,6 +12,8 @@ The checks:
   in order, by the manipulator of the configuration it was sent in; nothing is undelivered;
 * a short switch timeout: the switch ends by it within the timeout, and every command is
   received or counted undelivered, never both, never lost silently;
+* rounds: a node that acknowledges the stop late makes the coordinator force it after the
+  others acknowledged it; they acknowledge the forced round again and the switch ends;
 * threaded, one busy process per CPU: the same in every run, 0 heap allocations while running;
 * sensitivity control: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``, test-only)
   fails these checks in at least one run, so the checks can fail.
@@ -122,6 +124,17 @@ def test_a_switch_ends_by_its_timeout_and_counts_what_it_clears(drained: Path) -
     reported = sum(int(m.group(1)) for m in map(re.compile(r"^link task/a,manip[AB]/a: (\d+) value\(s\) "
                                                             r"undelivered at switch$").match, lines) if m)
     assert reported == s["undelivered"]
+
+
+def test_a_stop_forced_after_some_nodes_acknowledged_it_is_acknowledged_again(tmp_path: Path) -> None:
+    """manipA/a's node answers the stop round late (as a node asleep until its next data): the
+    coordinator forces the stop after the other nodes acknowledged the unforced one, and the
+    switch must still end, by its timeout, with every command delivered."""
+    rounds = build(SOURCES["rounds"], tmp_path)  # the one-process switch has no acknowledgements
+    s = summary(run(rounds, "--cycles", "6000", "--late-stop-ack", "100"))
+    assert s["switches"] == SWITCHES and s["timeouts"] == SWITCHES, s
+    assert s["max_latency_cycles"] <= TIMEOUT_MS
+    assert s["sent"] == s["received"] == (SWITCHES + 1) * PER and s["lost"] == s["undelivered"] == 0
 
 
 def test_threaded_runs_under_load_deliver_every_command_once(drained: Path) -> None:

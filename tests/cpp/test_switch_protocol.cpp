@@ -7,6 +7,9 @@
 //   test_switch_protocol --cycles N [options]   one thread steps the nodes in turn, prints the trace
 //   test_switch_protocol --threaded [options]   one thread per node, prints only the summary
 //   options: --switches S  --per P (commands per configuration)  --timeout-ms T  --quiet
+//            --late-stop-ack L: manipA/a's node answers an unforced stop round only after L of
+//            its loops (a node asleep until its next data), so that the coordinator forces the
+//            stop after the other nodes acknowledged it; they must acknowledge the forced one
 //
 // The last line is the summary tests/test_switch_runtime.py reads (the same checks as
 // test_switch.cpp's), plus "dropped": values a Pipe could not take (the transport lost them).
@@ -110,6 +113,8 @@ struct System {
   CommandLink inA, inB;
   StatusLink statusA, statusB;
   std::uint64_t sentCommand = 0, sentA = 0, sentB = 0;
+  std::uint64_t lateStopAck = 0, heldStopA = 0;  // --late-stop-ack
+  Command_ lastCommandA{};
 
   System() noexcept {
     manipA.command.connect(inA);
@@ -142,11 +147,16 @@ struct System {
 
   void nodeA(earl::Component::Clock::time_point now) noexcept {
     Command_ c;
-    while (net.commands[0].pop(c)) memberA.command(c);
+    while (net.commands[0].pop(c)) {
+      memberA.command(c);
+      lastCommandA = c;
+      heldStopA = 0;
+    }
     Command value;
     while (net.toA.pop(value)) memberA.deliver(0, inA, value);
     Ack ack;
-    if (memberA.boundary(ack)) net.acks[0].push(ack);
+    const bool holds = lastCommandA.round == earl::SwitchRound::stop && !lastCommandA.forced && heldStopA++ < lateStopAck;
+    if (!holds && memberA.boundary(ack)) net.acks[0].push(ack);
     if (manipA.ready(now)) manipA.updateHook();
     if (manipA.status.sent() != sentA) {
       sentA = manipA.status.sent();
@@ -250,7 +260,7 @@ void runNode(Step step, std::chrono::nanoseconds period, const std::atomic<bool>
 
 int usage(const char* program) {
   std::fprintf(stderr,
-               "usage: %s (--cycles N | --threaded) [--switches S] [--per P] [--timeout-ms T] [--quiet]\n",
+               "usage: %s (--cycles N | --threaded) [--switches S] [--per P] [--timeout-ms T] [--late-stop-ack L] [--quiet]\n",
                program);
   return 2;
 }
@@ -271,6 +281,8 @@ int main(int argc, char** argv) {
       settings.per = std::strtoull(argv[++i], nullptr, 10);
     } else if (std::strcmp(argv[i], "--timeout-ms") == 0 && i + 1 < argc) {
       settings.timeoutNs = static_cast<std::int64_t>(std::strtod(argv[++i], nullptr) * 1e6);
+    } else if (std::strcmp(argv[i], "--late-stop-ack") == 0 && i + 1 < argc) {
+      theSystem().lateStopAck = std::strtoull(argv[++i], nullptr, 10);
     } else if (std::strcmp(argv[i], "--quiet") == 0) {
       quiet = true;
     } else {

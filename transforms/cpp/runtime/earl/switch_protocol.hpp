@@ -138,7 +138,12 @@ class SwitchMember final : public SwitchControl {
 
   /// A command of the coordinator; handled at the next boundary().
   void command(const SwitchCommand<Links>& command) noexcept {
-    if (command.seq < command_.seq || (command.seq == command_.seq && command.round <= command_.round)) return;
+    if (command.seq < command_.seq) return;
+    // of the current switch, a later round, or the round the coordinator forced (its timeout)
+    if (command.seq == command_.seq && command.round <= command_.round &&
+        !(command.round == command_.round && command.forced && !command_.forced)) {
+      return;
+    }
     command_ = command;
   }
 
@@ -146,7 +151,11 @@ class SwitchMember final : public SwitchControl {
   /// is to be sent.
   bool boundary(SwitchAck<Links>& ack) noexcept {
     const SwitchCommand<Links>& c = command_;
-    if (c.round == SwitchRound::none || (c.seq == ackedSeq_ && c.round == ackedRound_)) return false;
+    // a forced command repeats its round (the coordinator's timeout): it is acknowledged again,
+    // since the coordinator forgot the acknowledgements of the round it forced
+    if (c.round == SwitchRound::none || (c.seq == ackedSeq_ && c.round == ackedRound_ && c.forced == ackedForced_)) {
+      return false;
+    }
     if (c.seq != seq_) begin(c);
     if (c.round >= SwitchRound::drain) expected_ = c.counts;
     bool done = true;
@@ -175,6 +184,7 @@ class SwitchMember final : public SwitchControl {
     if (!done) return false;
     ackedSeq_ = c.seq;
     ackedRound_ = c.round;
+    ackedForced_ = c.forced;
     ack.seq = c.seq;
     ack.round = c.round;
     ack.node = node_;
@@ -292,6 +302,7 @@ class SwitchMember final : public SwitchControl {
   std::uint32_t seq_ = 0;
   std::uint32_t ackedSeq_ = 0;
   SwitchRound ackedRound_ = SwitchRound::none;
+  bool ackedForced_ = false;
   SwitchCommand<Links> command_{};
   std::array<bool, Links> sends_{};
   std::array<bool, Links> open_{};
