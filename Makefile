@@ -35,7 +35,7 @@ CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_har
 	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py
 test: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
-	EARL_CAMPAIGN_RUNS=$(SUITE_RUNS) $(PY) -m pytest -q
+	EARL_CAMPAIGN_RUNS=$(SUITE_RUNS) $(PY) -m pytest -q --durations=30
 
 campaign: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
