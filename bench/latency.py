@@ -14,15 +14,20 @@ ago it was written:
   runner loop, which looks at ready() every 100 us; kept for this comparison only);
 * ``std::condition_variable``: ``bench/cpp/latency_cv.cpp``, the hand-off written by hand.
 
-Each runs unloaded, then loaded (one spinning process per CPU, started by the bench). Then the
-CPU time (utime + stime from /proc/PID/stat) over a few seconds of (a) the event-driven reader
-waiting with nothing written and (b) the sample's ``manip/a`` agent executable (its inputs from
-other agents unconnected: no command comes; its 12 motor and controller subsystems stay
-periodic at 1 ms), for the wake word and for polling.
+Each runs unloaded, then loaded (one spinning process per CPU, started by the bench). Then,
+unloaded, the CPU time (utime + stime from /proc/PID/stat) over a few seconds of:
+
+* the event-driven reader waiting with nothing written (wake word, polling);
+* the sample's ``manip/a`` agent executable (its inputs from other agents unconnected: no
+  command comes, its event-driven control subsystem waits; its 12 motor and controller
+  subsystems stay periodic at 1 ms): with the periodic subsystems sharing a thread per period
+  (the default), with a thread each (``--threads subsystem``), and built polling;
+* the baseline, ``bench/cpp/timer_loop.cpp``: one thread sleeping to absolute deadlines 1 ms
+  apart and doing nothing else, what any 1 kHz loop costs on this machine.
 
 Prints p50, p99 and max latency in microseconds, the ratios p99 wake / p99 condition variable
-(target <= 1.5) and p99 wake / p99 polling (target < 1), and idle CPU in % of one core (target
-< 2 % for the waiting reader). Nothing is asserted.
+(target <= 1.5) and p99 wake / p99 polling (target < 1), idle CPU in % of one core (target
+< 2 %) and the sample's idle CPU over the 1 kHz baseline's. Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -136,12 +141,15 @@ def report(rows: list[dict], idle: list[dict]) -> None:
               f"{'ok' if cv <= TARGET_CV else 'MISSED'});  p99 wake / p99 polling = {poll:.2f}  "
               f"(target < {TARGET_POLL}: {'ok' if poll < TARGET_POLL else 'MISSED'})")
     print()
-    print(f"{'idle CPU, % of one core':<50} {'wake':>8} {'polling':>8}")
+    print(f"{'idle CPU, unloaded':<62} {'% of one core':>14}")
+    floor = next(e["percent"] for e in idle if e.get("baseline"))
     for entry in idle:
         verdict = ""
-        if entry["target"]:
-            verdict = f"  target < {TARGET_IDLE} %: {'ok' if entry['wake'] < TARGET_IDLE else 'MISSED'}"
-        print(f"{entry['what']:<50} {entry['wake']:>8.2f} {entry['poll']:>8.2f}{verdict}")
+        if entry.get("target"):
+            verdict = f"  target < {TARGET_IDLE} %: {'ok' if entry['percent'] < TARGET_IDLE else 'MISSED'}"
+        if entry.get("versus_baseline"):
+            verdict += f"  {entry['percent'] / floor:.2f} x baseline" if floor > 0 else "  (baseline 0)"
+        print(f"{entry['what']:<62} {entry['percent']:>14.2f}{verdict}")
     print("latency: from the write into the obligatory input to the start of the reader's iteration; "
           "loaded: one spinning process per CPU.")
 
@@ -171,11 +179,21 @@ def main(argv: list[str] | None = None) -> int:
             for name in PROGRAMS:
                 rows.append({"load": load, "program": name, **handoffs(binaries[name], args.samples)})
     seconds = str(args.idle + 2)
-    reader = {name: idle_cpu([str(binaries[name]), "--idle", seconds], args.idle) for name in ("wake", "poll")}
-    sample = {name: idle_cpu([str(agent[name]), "--threaded", seconds, "--quiet"], args.idle)
-              for name in ("wake", "poll")}
-    idle = [{"what": "event-driven reader waiting, nothing written", "target": True, **reader},
-            {"what": "sample manip/a agent (cs waits; 12 periodic at 1 ms)", "target": False, **sample}]
+    timer = args.out / "timer_loop"
+    build(args.cxx, SOURCES / "timer_loop.cpp", timer)
+    runs = [("event-driven reader waiting, nothing written: wake word", [str(binaries["wake"]), "--idle", seconds],
+             {"target": True}),
+            ("event-driven reader waiting, nothing written: polling", [str(binaries["poll"]), "--idle", seconds], {}),
+            ("sample manip/a, a thread per period (default)",
+             [str(agent["wake"]), "--threaded", seconds, "--quiet"], {"target": True, "versus_baseline": True}),
+            ("sample manip/a, a thread per subsystem",
+             [str(agent["wake"]), "--threaded", seconds, "--quiet", "--threads", "subsystem"],
+             {"versus_baseline": True}),
+            ("sample manip/a, polling build, a thread per subsystem",
+             [str(agent["poll"]), "--threaded", seconds, "--quiet", "--threads", "subsystem"],
+             {"versus_baseline": True}),
+            ("baseline: a bare 1 kHz timer loop (timer_loop.cpp)", [str(timer), seconds], {"baseline": True})]
+    idle = [{"what": what, "percent": idle_cpu(command, args.idle), **flags} for what, command, flags in runs]
     report(rows, idle)
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)

@@ -80,7 +80,7 @@ def test_the_system_allocates_nothing_per_cycle_after_start_up(system_build: Pat
     assert report["cs_steps"] == 100 + 10000  # manip/a.cs ran every deterministic cycle
     assert report["allocations"] == 0, f"{report['allocations'] / 10000} allocations per cycle"
     # threaded: creating the threads allocates (start-up, and proof the counter works) ...
-    assert report["threaded_start_allocations"] >= 17
+    assert report["threads"] >= 2 and report["threaded_start_allocations"] >= report["threads"]
     assert report["threaded_cs_steps"] > 0
     # ... running them does not
     assert report["threaded_allocations"] == 0, report

@@ -4,7 +4,9 @@
   write into its obligatory input before its timeout and never runs without it outside a
   timeout; one whose input never comes runs at its timeout; ``stop()`` returns promptly with
   every thread asleep.
-* The sample's generated system executable (g++ over the generated code) applies
+* The sample's generated system executable (g++ over the generated code) runs each
+  event-driven subsystem in a thread of its own and the periodic ones in one thread per period
+  and settings (``--threads subsystem``: a thread each); it applies
   ``--priority``, ``--cpu`` and ``--mlockall`` in the subsystems' threads, and refuses, in one
   line naming the subsystem, the setting and the reason, what it cannot apply: a priority out
   of 1..99 or an unknown subsystem before anything starts (exit 2), a CPU that does not exist
@@ -17,11 +19,13 @@ import os
 import shutil
 import subprocess
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from earl_m2t.api import load
+from earl_m2t.model.elements import Activation
 from earl_m2t.gen import generate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,6 +51,14 @@ def test_threaded_runner_wakes_on_data_at_timeouts_and_at_stop(tmp_path: Path) -
     assert result.returncode == 0 and result.stdout == "ok\n", result.stdout + result.stderr
 
 
+def event_driven_subsystems() -> int:
+    """How many of the sample's subsystem instances have activation (a thread of their own)."""
+    model = load(SAMPLE).model
+    assert model.system is not None
+    return sum(1 for agent in model.system.agents for sub in agent.subsystems
+               if sub.buffer_groups or any(s.activation != Activation() for s in (sub.fsm.states if sub.fsm else ())))
+
+
 @pytest.fixture(scope="module")
 def system(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("wake") / "gen"
@@ -70,31 +82,38 @@ def thread_settings(pid: int) -> list[tuple[int, int, frozenset[int]]]:
     return found
 
 
-def test_priority_and_cpu_are_applied_in_the_subsystems_thread(system: Path) -> None:
-    process = subprocess.Popen([str(system), "--threaded", "3", "--quiet", "--mlockall",
-                                "--priority", "manip/a.cs=2", "--cpu", "manip/a.cs=0"],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        time.sleep(1.0)
-        threads = thread_settings(process.pid)
-    finally:
-        stdout, stderr = process.communicate(timeout=30)
-    assert process.returncode == 0, stderr
-    assert "ran PickAndPlaceSystem threaded" in stdout
-    assert len(threads) == 17  # one per subsystem
-    assert [t for t in threads if t[0] == SCHED_FIFO] == [(SCHED_FIFO, 2, frozenset({0}))]
-
-
-def test_default_priority_applies_to_every_subsystem(system: Path) -> None:
-    process = subprocess.Popen([str(system), "--threaded", "2", "--quiet", "--priority", "1"],
+def threads_while_running(system: Path, *arguments: str) -> tuple[list[tuple[int, int, frozenset[int]]], str]:
+    """The settings of the executable's threads a moment after it started, and its output."""
+    process = subprocess.Popen([str(system), "--threaded", "2", "--quiet", *arguments],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         time.sleep(0.7)
         threads = thread_settings(process.pid)
     finally:
-        _, stderr = process.communicate(timeout=30)
+        stdout, stderr = process.communicate(timeout=30)
     assert process.returncode == 0, stderr
-    assert len(threads) == 17 and all(t[:2] == (SCHED_FIFO, 1) for t in threads)
+    return threads, stdout
+
+
+@pytest.mark.parametrize("subsystem", ["manip/a.cs", "grip/a.cs"], ids=["event-driven", "periodic"])
+def test_priority_and_cpu_are_applied_in_the_subsystems_thread(system: Path, subsystem: str) -> None:
+    threads, stdout = threads_while_running(system, "--mlockall", "--priority", f"{subsystem}=2",
+                                            "--cpu", f"{subsystem}=0")
+    # the event-driven subsystems, one thread each; the periodic ones of one period share one,
+    # but a subsystem with settings of its own has its own
+    expected = event_driven_subsystems() + (1 if subsystem == "manip/a.cs" else 2)
+    assert len(threads) == expected and f"in {expected} thread(s)" in stdout, stdout
+    assert [t for t in threads if t[0] == SCHED_FIFO] == [(SCHED_FIFO, 2, frozenset({0}))]
+
+
+@pytest.mark.parametrize(("plan", "count"), [([], lambda: event_driven_subsystems() + 1),
+                                             (["--threads", "period"], lambda: event_driven_subsystems() + 1),
+                                             (["--threads", "subsystem"], lambda: 17)],
+                         ids=["default", "period", "subsystem"])
+def test_default_priority_applies_to_every_thread(system: Path, plan: list[str], count: Callable[[], int]) -> None:
+    threads, stdout = threads_while_running(system, *plan, "--priority", "1")
+    assert len(threads) == count() and f"in {count()} thread(s)" in stdout, stdout
+    assert all(t[:2] == (SCHED_FIFO, 1) for t in threads)
 
 
 @pytest.mark.parametrize(("arguments", "line"), [

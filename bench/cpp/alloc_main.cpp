@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   std::uint64_t threadedStartAllocations = 0;
   std::uint64_t threadedAllocations = 0;
   std::uint64_t threadedSteps = 0;
+  std::size_t threads = 0;
   if (seconds > 0.0) {
     for (earl::Component* c : system.components()) c->setPeriod(std::chrono::microseconds(200));
     earl::ThreadedRunner<::PickAndPlace::System::kComponents> runner(system.components());
@@ -74,6 +75,7 @@ int main(int argc, char** argv) {
     runner.start();
     std::this_thread::sleep_for(std::chrono::milliseconds(50));  // every thread is up
     threadedStartAllocations = count_new::allAllocations() - beforeStart;
+    threads = runner.threads();
     const std::uint64_t before = count_new::allocations();
     const std::uint64_t stepsBefore = system.manip_a.cs.steps();
     count_new::start();
@@ -87,11 +89,11 @@ int main(int argc, char** argv) {
   std::printf(
       "{\"components\": %zu, \"startup_cycles\": %llu, \"startup_allocations\": %llu, "
       "\"cycles\": %llu, \"cs_steps\": %llu, \"allocations\": %llu, "
-      "\"threaded_seconds\": %.3f, \"threaded_start_allocations\": %llu, \"threaded_cs_steps\": %llu, "
-      "\"threaded_allocations\": %llu}\n",
+      "\"threaded_seconds\": %.3f, \"threads\": %zu, \"threaded_start_allocations\": %llu, "
+      "\"threaded_cs_steps\": %llu, \"threaded_allocations\": %llu}\n",
       ::PickAndPlace::System::kComponents, static_cast<unsigned long long>(startup),
       static_cast<unsigned long long>(startupAllocations), static_cast<unsigned long long>(cycles),
       static_cast<unsigned long long>(deterministicSteps), static_cast<unsigned long long>(deterministicAllocations),
-      seconds, static_cast<unsigned long long>(threadedStartAllocations), static_cast<unsigned long long>(threadedSteps), static_cast<unsigned long long>(threadedAllocations));
+      seconds, threads, static_cast<unsigned long long>(threadedStartAllocations), static_cast<unsigned long long>(threadedSteps), static_cast<unsigned long long>(threadedAllocations));
   return 0;
 }

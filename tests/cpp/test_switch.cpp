@@ -179,6 +179,7 @@ int main(int argc, char** argv) {
     system.manipA.setPeriod(std::chrono::microseconds(250));
     system.manipB.setPeriod(std::chrono::microseconds(250));
     earl::ThreadedRunner<3> runner(system.components());
+    runner.plan(earl::ThreadPlan::perSubsystem);  // the two arms in threads of their own: the most concurrency
     runner.start();
     const std::uint64_t before = allocations.load();
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);

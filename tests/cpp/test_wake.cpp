@@ -4,7 +4,10 @@
 //     iteration without its obligatory input outside a timeout;
 //   * a subsystem whose obligatory input never comes runs at its timeout;
 //   * stop() returns promptly although every thread sleeps without a near deadline, and
-//     every thread is asleep (not polling) before it.
+//     every thread is asleep (not polling) before it;
+//   * a value delivered into an input that is not obligatory in the state does not wake the
+//     waiting thread (its context switches stay flat), a value into the obligatory one does;
+//     the same reader told that every input wakes it is woken by each (the control).
 // Built and run by tests/test_wake_runtime.py; prints "ok" and exits 0.
 #include <atomic>
 #include <chrono>
@@ -12,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <array>
 #include <dirent.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -72,6 +76,39 @@ class Reader final : public earl::Subsystem<Reader<TimeoutNs>> {
 
  private:
   std::uint64_t lastTimeouts_ = 0;
+};
+
+/// One state activated by ``in`` alone; ``side`` is read when it has a value. ``WakeInputs``:
+/// the state's wake mask (bit 0 ``in``, bit 1 ``side``).
+template <std::uint64_t WakeInputs>
+class TwoInputs final : public earl::Subsystem<TwoInputs<WakeInputs>> {
+  using Base = earl::Subsystem<TwoInputs<WakeInputs>>;
+
+ public:
+  TwoInputs() noexcept : Base("two inputs", tables()) {
+    in.setWake(this->wake(), earl::Wake::inputBit(0));
+    side.setWake(this->wake(), earl::Wake::inputBit(1));
+  }
+  earl::InputPort<std::int64_t> in;
+  earl::InputPort<std::int64_t> side;
+
+  void send() noexcept {}
+  void receive() noexcept {
+    in.receive();
+    side.receive();
+  }
+  bool obligatory() const noexcept { return in.ready(); }
+  bool never() const noexcept { return false; }
+
+  static const earl::FsmTables<TwoInputs>& tables() noexcept {
+    static const earl::BehaviourDef<TwoInputs> behaviours[] = {
+        {"a/bb", nullptr, 0, &TwoInputs::send, &TwoInputs::receive, &TwoInputs::never, &TwoInputs::never},
+    };
+    static const earl::StateDef states[] = {{"A", 0}};
+    static const earl::ActivationDef<TwoInputs> activations[] = {{&TwoInputs::obligatory, 0, -1, -1, WakeInputs}};
+    static const earl::FsmTables<TwoInputs> t{states, 1, behaviours, 1, nullptr, 0, 0, activations};
+    return t;
+  }
 };
 
 /// A periodic component that counts its iterations.
@@ -175,12 +212,84 @@ void stop_is_prompt_and_threads_sleep() {
   EXPECT(took < 5.0);  // not the 30 s period nor forever
 }
 
+/// Voluntary context switches of the one thread of this process other than the caller.
+long otherThreadSwitches() {
+  const long self = static_cast<long>(syscall(SYS_gettid));
+  long found = -1;
+  DIR* dir = opendir("/proc/self/task");
+  if (dir == nullptr) return -1;
+  while (dirent* entry = readdir(dir)) {
+    if (entry->d_name[0] == '.' || std::strtol(entry->d_name, nullptr, 10) == self) continue;
+    char path[300];
+    std::snprintf(path, sizeof path, "/proc/self/task/%s/status", entry->d_name);
+    FILE* f = std::fopen(path, "r");
+    if (f == nullptr) continue;
+    char line[256];
+    while (std::fgets(line, sizeof line, f) != nullptr) {
+      if (std::strncmp(line, "voluntary_ctxt_switches:", 24) == 0) found = std::strtol(line + 24, nullptr, 10);
+    }
+    std::fclose(f);
+  }
+  closedir(dir);
+  return found;
+}
+
+/// Writes ``count`` values into ``side`` 1 ms apart while the reader waits for ``in``: how
+/// many times the reader's thread was switched out meanwhile (each wake-up is one).
+long switchesWhileSideValuesCome(earl::Channel<std::int64_t>& side, int count) {
+  const long before = otherThreadSwitches();
+  for (int i = 0; i < count; ++i) {
+    side.write(i);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return otherThreadSwitches() - before;
+}
+
+void wakes_only_on_obligatory_inputs() {
+  constexpr int kSideValues = 200;
+  TwoInputs<0x1u> reader;  // woken by ``in`` only
+  earl::Channel<std::int64_t> in, side;
+  reader.in.connect(in);
+  reader.side.connect(side);
+  std::array<earl::Component*, 1> components{&reader};
+  earl::ThreadedRunner<1> runner(components);
+  EXPECT(runner.start());
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the first iteration has run
+  const long quiet = switchesWhileSideValuesCome(side, kSideValues);
+  EXPECT(quiet >= 0 && quiet < kSideValues / 10);
+  EXPECT(reader.steps() == 1);
+  in.write(7);  // the obligatory input: one iteration, which also reads the side value
+  const Clock::time_point limit = Clock::now() + std::chrono::seconds(2);
+  while (reader.steps() < 2 && Clock::now() < limit) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT(reader.steps() == 2);
+  EXPECT(reader.side.received() == 1);
+  runner.stop();
+
+  TwoInputs<earl::Wake::kAnyInput> control;  // every delivery wakes it (and it sleeps again)
+  earl::Channel<std::int64_t> in2, side2;
+  control.in.connect(in2);
+  control.side.connect(side2);
+  std::array<earl::Component*, 1> controls{&control};
+  earl::ThreadedRunner<1> controlRunner(controls);
+  EXPECT(controlRunner.start());
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const long woken = switchesWhileSideValuesCome(side2, kSideValues);
+  EXPECT(woken >= kSideValues / 2);
+  EXPECT(control.steps() == 1);
+  controlRunner.stop();
+  if (quiet >= kSideValues / 10 || woken < kSideValues / 2) {
+    std::printf("context switches while %d side values came: %ld (obligatory only), %ld (every input)\n",
+                kSideValues, quiet, woken);
+  }
+}
+
 }  // namespace
 
 int main() {
   wakes_on_data();
   runs_at_its_timeout();
   stop_is_prompt_and_threads_sleep();
+  wakes_only_on_obligatory_inputs();
   if (failures != 0) return EXIT_FAILURE;
   std::printf("ok\n");
   return EXIT_SUCCESS;

@@ -143,6 +143,9 @@ class _SubsystemView:
             port = ports[buf.template]
             cpp = f"data_.{port['member']}" + (f"[{buf.index - 1}]" if buf.index else "")
             self.storage[buf.name] = Storage(cpp, buf.datatype, port["kind"])
+        inputs = [port for port in ports.values() if port["kind"] == "ib"]
+        for index, port in enumerate(inputs):
+            port["wake_index"] = index  # earl::Wake::inputBit(wake_index)
         for port in ports.values():
             port["count_name"] = f"{port['member']}_count"
             queue = f", {port['queue']}" if port["queue"] else ""
@@ -382,8 +385,23 @@ def activation_rows(sub: Subsystem, ports: dict[str, Data], scope: Scope) -> tup
         rows.append({"obligatory": f"&Subsystem::{ready['method']}" if ready else "nullptr",
                      "min_period": _nanoseconds(activation.min_period),
                      "first_timeout": _nanoseconds(activation.first_timeout),
-                     "next_timeout": _nanoseconds(activation.next_timeout), "comment": cpp_comment(state.name)})
+                     "next_timeout": _nanoseconds(activation.next_timeout),
+                     "wake_inputs": _wake_mask(ready["ports"]) if ready else "earl::Wake::kAnyInput",
+                     "comment": cpp_comment(state.name)})
     return list(groups.values()), rows
+
+
+def _input_bit(index: int) -> int:
+    """earl::Wake::inputBit(index): the 64th input and later share the last bit."""
+    return 1 << min(index, 63)
+
+
+def _wake_mask(obligatory: list[Data]) -> str:
+    """The C++ literal of the bits of a buffer group's obligatory inputs."""
+    mask = 0
+    for port in obligatory:
+        mask |= _input_bit(port["wake_index"])
+    return f"0x{mask:x}u"
 
 
 def _quiescent(states: tuple[State, ...]) -> list[Data]:

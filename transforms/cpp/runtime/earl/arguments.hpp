@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "earl/component.hpp"
+#include "earl/realtime.hpp"
 
 namespace earl {
 
@@ -45,6 +46,20 @@ inline bool parseNonFinite(const char* text, NonFinite& policy) noexcept {
     policy = NonFinite::error;
   } else if (std::strcmp(text, "report") == 0) {
     policy = NonFinite::report;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+/// --threads: "period" (periodic subsystems of one period and the same settings share a
+/// thread, the default) or "subsystem" (a thread each).
+inline bool parseThreadPlan(const char* text, ThreadPlan& plan) noexcept {
+  if (text == nullptr) return false;
+  if (std::strcmp(text, "period") == 0) {
+    plan = ThreadPlan::perPeriod;
+  } else if (std::strcmp(text, "subsystem") == 0) {
+    plan = ThreadPlan::perSubsystem;
   } else {
     return false;
   }

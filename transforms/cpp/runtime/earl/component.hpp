@@ -74,6 +74,9 @@ class Component {
     onData = false;
     return now;
   }
+  /// Asked after nextDeadline() said ``onData``: the inputs (Wake::inputBit() of each) whose
+  /// delivery can make ready() hold; a delivery into another one need not wake the thread.
+  virtual std::uint64_t wakeInputs() const noexcept { return Wake::kAnyInput; }
   /// The wake word the channels into this component's inputs signal (earl/wake.hpp).
   Wake& wake() noexcept { return wake_; }
 

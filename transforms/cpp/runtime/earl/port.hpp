@@ -36,10 +36,13 @@ class Channel {
   }
   /// Tells the reader's wake word that a value came (a system call only if it sleeps on it).
   void signal() noexcept {
-    if (reader_ != nullptr) reader_->data();
+    if (reader_ != nullptr) reader_->data(input_);
   }
   /// Wiring: the wake word of the component reading this channel (nullptr: none).
-  void setReader(Wake* reader) noexcept { reader_ = reader; }
+  void setReader(Wake* reader, std::uint64_t input = Wake::kAnyInput) noexcept {
+    reader_ = reader;
+    input_ = input;
+  }
 
   /// A value written since the last read() waits (the consumer's side; does not take it).
   bool fresh() const noexcept { return (middle_.load(std::memory_order_acquire) & kFresh) != 0u; }
@@ -62,6 +65,7 @@ class Channel {
   unsigned front_ = 1;  // the consumer's slot
   std::atomic<unsigned> middle_{2u};
   Wake* reader_ = nullptr;
+  std::uint64_t input_ = Wake::kAnyInput;  // the reader's input this channel delivers into (its bit)
 };
 
 /// One link into a queued Input Buffer: a single-producer single-consumer ring of Capacity
@@ -91,9 +95,12 @@ class QueueChannel {
     tail_.store(tail + 1, std::memory_order_release);
   }
   void signal() noexcept {
-    if (reader_ != nullptr) reader_->data();
+    if (reader_ != nullptr) reader_->data(input_);
   }
-  void setReader(Wake* reader) noexcept { reader_ = reader; }
+  void setReader(Wake* reader, std::uint64_t input = Wake::kAnyInput) noexcept {
+    reader_ = reader;
+    input_ = input;
+  }
 
   /// The oldest value not read yet; false when the queue is empty.
   bool read(T& out) noexcept {
@@ -116,6 +123,7 @@ class QueueChannel {
   std::atomic<std::size_t> tail_{0};  // the producer's index
   std::atomic<std::uint64_t> overflows_{0};
   Wake* reader_ = nullptr;
+  std::uint64_t input_ = Wake::kAnyInput;  // the reader's input this channel delivers into (its bit)
 };
 
 /// An Input Buffer (ib): ``msg`` holds the last value received. Queue == 0 (EARL's latest
@@ -133,15 +141,17 @@ class InputPort {
   bool connect(channel_type& channel) noexcept {
     if (count_ == MaxLinks) return false;
     links_[count_++] = &channel;
-    channel.setReader(wake_);
+    channel.setReader(wake_, input_);
     return true;
   }
 
-  /// Wiring, at initialisation only: the wake word of the component owning this port, told
-  /// to every channel connected before or after.
-  void setWake(Wake& wake) noexcept {
+  /// Wiring, at initialisation only: the wake word of the component owning this port and the
+  /// port's bit among its inputs (Wake::inputBit()), told to every channel connected before or
+  /// after.
+  void setWake(Wake& wake, std::uint64_t input = Wake::kAnyInput) noexcept {
     wake_ = &wake;
-    for (std::size_t i = 0; i < count_; ++i) links_[i]->setReader(wake_);
+    input_ = input;
+    for (std::size_t i = 0; i < count_; ++i) links_[i]->setReader(wake_, input_);
   }
 
   /// EARL receive(): newData() is true until the next receive() when this one delivered
@@ -195,6 +205,7 @@ class InputPort {
   std::array<channel_type*, MaxLinks> links_{};
   std::size_t count_ = 0;
   Wake* wake_ = nullptr;
+  std::uint64_t input_ = Wake::kAnyInput;
 };
 
 /// An Output Buffer (ob): pf write msg(); send() copies it to every linked channel.

@@ -25,6 +25,11 @@ struct ThreadSettings {
   int cpu = -1;      // the only CPU the thread runs on; -1: any
 };
 
+/// How ThreadedRunner gives components threads: periodic components of one period and the
+/// same settings share one (perPeriod, the default), or each has its own (perSubsystem).
+/// An event-driven component always has its own.
+enum class ThreadPlan : std::uint8_t { perPeriod, perSubsystem };
+
 constexpr int kMinPriority = 1;
 constexpr int kMaxPriority = 99;
 

@@ -1,5 +1,6 @@
 // earl runtime: how components are run. Deterministic: step them in a fixed order in one
-// thread. Threaded: one thread per component, each at its own period.
+// thread. Threaded: a thread per event-driven component, and a thread per period for the
+// periodic ones (or one per component, ThreadPlan::perSubsystem).
 // Part of earl-m2t's C++ target; header-only, C++17.
 #pragma once
 
@@ -23,9 +24,12 @@
 
 namespace earl {
 
-/// One thread per component, each calling updateHook() every period() (absolute deadlines,
-/// no drift), or, for an event-driven component, whenever its ready() holds. Between two
-/// iterations the thread sleeps on the component's wake word (earl/wake.hpp) until its next
+/// An event-driven component has a thread of its own, which calls updateHook() whenever its
+/// ready() holds. Periodic components of the same period and the same real-time settings share
+/// one thread (ThreadPlan::perPeriod, the default), which calls updateHook() of each, in the
+/// order given, every period (absolute deadlines, no drift): one wake-up per period instead of
+/// one per component. ThreadPlan::perSubsystem gives every component a thread of its own.
+/// Between two iterations a thread sleeps on a wake word (earl/wake.hpp) until its next
 /// deadline (Component::nextDeadline()), a value delivered into one of its inputs, or a
 /// wake-up (a switch, stop()): no polling. Threads are created by start() (initialisation); a
 /// cycle neither allocates nor locks: components only meet through the lock-free channels of
@@ -47,15 +51,22 @@ class ThreadedRunner {
     if (index < N) settings_[index] = settings;
   }
 
+  /// Before start(): whether periodic components share a thread per period (the default).
+  void plan(ThreadPlan plan) noexcept { plan_ = plan; }
+
+  /// After start(): how many threads run the components.
+  std::size_t threads() const noexcept { return groups_; }
+
   /// Starts every thread once each has taken its settings (earl/realtime.hpp). false when the
   /// system refused one: no component ran, and refusal() holds the line saying why.
   bool start() {
     if (running_.exchange(true)) return true;
-    for (std::size_t i = 0; i < N; ++i) {
-      threads_[i] = std::thread([this, i] { run(i); });
+    group();
+    for (std::size_t g = 0; g < groups_; ++g) {
+      threads_[g] = std::thread([this, g] { run(g); });
     }
     std::unique_lock<std::mutex> lock(startMutex_);
-    startChanged_.wait(lock, [this] { return applied_ == N; });
+    startChanged_.wait(lock, [this] { return applied_ == groups_; });
     go_ = refused_ ? Go::abort : Go::run;
     lock.unlock();
     startChanged_.notify_all();
@@ -80,8 +91,37 @@ class ThreadedRunner {
  private:
   enum class Go : std::uint8_t { wait, run, abort };
 
+  /// The threads: ``order_`` lists the components thread by thread, thread g running
+  /// order_[first_[g]] .. order_[first_[g + 1] - 1], in the order the components were given.
+  void group() noexcept {
+    std::array<bool, N> placed{};
+    groups_ = 0;
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < N; ++i) {
+      if (placed[i]) continue;
+      first_[groups_++] = next;
+      order_[next++] = i;
+      placed[i] = true;
+      if (plan_ == ThreadPlan::perSubsystem || components_[i]->eventDriven()) continue;
+      for (std::size_t j = i + 1; j < N; ++j) {
+        if (placed[j] || components_[j]->eventDriven() || components_[j]->period() != components_[i]->period() ||
+            !sameSettings(settings_[j], settings_[i])) {
+          continue;
+        }
+        order_[next++] = j;
+        placed[j] = true;
+      }
+    }
+    first_[groups_] = next;
+  }
+
+  static bool sameSettings(const ThreadSettings& a, const ThreadSettings& b) noexcept {
+    return a.priority == b.priority && a.cpu == b.cpu;
+  }
+
   /// A thread: its settings, then (once every thread has taken its own) the loop.
-  void run(std::size_t index) noexcept {
+  void run(std::size_t g) noexcept {
+    const std::size_t index = order_[first_[g]];
     char message[sizeof refusal_];
     const bool applied = applyThreadSettings(settings_[index], components_[index]->name(), message, sizeof message);
     std::unique_lock<std::mutex> lock(startMutex_);
@@ -94,7 +134,12 @@ class ThreadedRunner {
     startChanged_.wait(lock, [this] { return go_ != Go::wait; });
     if (go_ != Go::run) return;
     lock.unlock();
-    loop(*components_[index]);
+    Component& c = *components_[index];
+    if (c.eventDriven()) {
+      loop(c);
+    } else {
+      loopPeriodic(first_[g], first_[g + 1]);
+    }
   }
 
 #if EARL_WAKE_POLL
@@ -102,46 +147,60 @@ class ThreadedRunner {
 
   void loop(Component& c) noexcept {
     c.startHook();
-    auto next = std::chrono::steady_clock::now();
     while (running_.load(std::memory_order_relaxed)) {
-      if (c.eventDriven()) {
-        while (!c.ready(std::chrono::steady_clock::now())) {
-          if (!running_.load(std::memory_order_relaxed)) break;
-          std::this_thread::sleep_for(kPoll);
-        }
+      while (!c.ready(std::chrono::steady_clock::now())) {
         if (!running_.load(std::memory_order_relaxed)) break;
-        c.updateHook();
-        continue;
+        std::this_thread::sleep_for(kPoll);
       }
+      if (!running_.load(std::memory_order_relaxed)) break;
       c.updateHook();
-      next += c.period();
-      std::this_thread::sleep_until(next);
     }
     c.stopHook();
   }
+
+  void loopPeriodic(std::size_t begin, std::size_t end) noexcept {
+    for (std::size_t k = begin; k < end; ++k) components_[order_[k]]->startHook();
+    auto next = std::chrono::steady_clock::now();
+    while (running_.load(std::memory_order_relaxed)) {
+      for (std::size_t k = begin; k < end; ++k) components_[order_[k]]->updateHook();
+      next += components_[order_[begin]]->period();
+      std::this_thread::sleep_until(next);
+    }
+    for (std::size_t k = begin; k < end; ++k) components_[order_[k]]->stopHook();
+  }
 #else
+  /// An event-driven component's thread.
   void loop(Component& c) noexcept {
     using Clock = Component::Clock;
     c.startHook();
     Wake& wake = c.wake();
-    Clock::time_point next = Clock::now();
     while (running_.load(std::memory_order_seq_cst)) {
-      if (c.eventDriven()) {
-        // arm before looking: a value delivered after ready() said no ends the sleep at once
-        const std::uint32_t armed = wake.arm();
-        if (!running_.load(std::memory_order_seq_cst)) break;
-        const Clock::time_point now = Clock::now();
-        if (c.ready(now)) {
-          c.updateHook();
-          continue;
-        }
-        bool onData = false;
-        const Clock::time_point deadline = c.nextDeadline(now, onData);
-        if (deadline > now) wake.wait(armed, deadline, onData);
+      // arm before looking: a value delivered after ready() said no ends the sleep at once
+      const std::uint32_t armed = wake.arm();
+      if (!running_.load(std::memory_order_seq_cst)) break;
+      const Clock::time_point now = Clock::now();
+      if (c.ready(now)) {
+        c.updateHook();
         continue;
       }
-      c.updateHook();
-      next += c.period();
+      bool onData = false;
+      const Clock::time_point deadline = c.nextDeadline(now, onData);
+      if (deadline > now) wake.wait(armed, deadline, onData ? c.wakeInputs() : std::uint64_t{0});
+    }
+    c.stopHook();
+  }
+
+  /// The thread of the periodic components order_[begin] .. order_[end - 1], one period.
+  void loopPeriodic(std::size_t begin, std::size_t end) noexcept {
+    using Clock = Component::Clock;
+    for (std::size_t k = begin; k < end; ++k) components_[order_[k]]->startHook();
+    // stop() wakes every component's word, so the first one's is enough to sleep on
+    Wake& wake = components_[order_[begin]]->wake();
+    const Clock::duration period = components_[order_[begin]]->period();
+    Clock::time_point next = Clock::now();
+    while (running_.load(std::memory_order_seq_cst)) {
+      for (std::size_t k = begin; k < end; ++k) components_[order_[k]]->updateHook();
+      next += period;
       // values delivered meanwhile wait for the period; only stop() ends the sleep early
       for (Clock::time_point now = Clock::now(); now < next; now = Clock::now()) {
         const std::uint32_t armed = wake.arm();
@@ -149,7 +208,7 @@ class ThreadedRunner {
         wake.wait(armed, next, false);
       }
     }
-    c.stopHook();
+    for (std::size_t k = begin; k < end; ++k) components_[order_[k]]->stopHook();
   }
 #endif
 
@@ -157,6 +216,10 @@ class ThreadedRunner {
   std::array<std::thread, N> threads_{};
   std::atomic<bool> running_{false};
   std::array<ThreadSettings, N> settings_{};
+  ThreadPlan plan_ = ThreadPlan::perPeriod;
+  std::array<std::size_t, N> order_{};
+  std::array<std::size_t, N + 1> first_{};
+  std::size_t groups_ = 0;
   // start-up only (never in a cycle): every thread reports its settings before any runs
   std::mutex startMutex_;
   std::condition_variable startChanged_;

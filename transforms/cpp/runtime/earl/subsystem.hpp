@@ -61,6 +61,7 @@ struct ActivationDef {
   std::int64_t minPeriodNs;     // < 0: the component's period
   std::int64_t firstTimeoutNs;  // < 0: no limit
   std::int64_t nextTimeoutNs;   // < 0: no limit
+  std::uint64_t wakeInputs = Wake::kAnyInput;  // the obligatory inputs' bits (Wake::inputBit())
 };
 
 /// A transition; the table lists them in model order, which breaks priority ties.
@@ -151,6 +152,12 @@ class Subsystem : public Component, public Health {
     onData = true;
     const std::int64_t timeout = entered_ ? a.firstTimeoutNs : a.nextTimeoutNs;
     return timeout >= 0 ? waitStart_ + std::chrono::nanoseconds(timeout) : Clock::time_point::max();
+  }
+
+  /// While waiting in a state with obligatory inputs, only those can make it ready.
+  std::uint64_t wakeInputs() const noexcept override {
+    if (tables_.activations == nullptr || !ran_) return Wake::kAnyInput;
+    return tables_.activations[current_].wakeInputs;
   }
 
   void updateHook() noexcept override {

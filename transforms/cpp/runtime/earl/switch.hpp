@@ -127,9 +127,10 @@ class SwitchedInputPort {
   /// A variable link; at initialisation only.
   bool connect(VariableLink<channel_type>& link) noexcept { return add(link, &link.gate()); }
   /// The wake word of the component owning this port (InputPort::setWake()).
-  void setWake(Wake& wake) noexcept {
+  void setWake(Wake& wake, std::uint64_t input = Wake::kAnyInput) noexcept {
     wake_ = &wake;
-    for (std::size_t i = 0; i < count_; ++i) links_[i]->setReader(wake_);
+    input_ = input;
+    for (std::size_t i = 0; i < count_; ++i) links_[i]->setReader(wake_, input_);
   }
 
   bool receive() noexcept {
@@ -188,7 +189,7 @@ class SwitchedInputPort {
     if (count_ == MaxLinks) return false;
     gates_[count_] = gate;
     links_[count_++] = &channel;
-    channel.setReader(wake_);
+    channel.setReader(wake_, input_);
     return true;
   }
 
@@ -200,6 +201,7 @@ class SwitchedInputPort {
   std::array<const Gate*, MaxLinks> gates_{};
   std::size_t count_ = 0;
   Wake* wake_ = nullptr;
+  std::uint64_t input_ = Wake::kAnyInput;
 };
 
 /// Calls ``object.reset()`` when the class has one (the optional hook of user pf classes).
@@ -649,6 +651,13 @@ class SwitchedSubsystem : public Component, public Health {
     onData = true;
     const std::int64_t timeout = entered_ ? a.firstTimeoutNs : a.nextTimeoutNs;
     return timeout >= 0 ? waitStart_ + std::chrono::nanoseconds(timeout) : Clock::time_point::max();
+  }
+
+  /// The obligatory inputs of the state; every input while the agent is leaving (its closed
+  /// links' values decide when it may stop).
+  std::uint64_t wakeInputs() const noexcept override {
+    if (tables_.activations == nullptr || !ran_ || leaving()) return Wake::kAnyInput;
+    return tables_.activations[current_].wakeInputs;
   }
 
   void updateHook() noexcept override {

@@ -6,13 +6,16 @@
 // The word is a sequence number that every delivery increments. A sleeper reads it (arm()),
 // checks whether it may run, and sleeps only while the word still holds what it read: a value
 // delivered in between makes the futex call return at once, so no wake-up is lost. A writer
-// makes a system call only when the reader is asleep waiting for data; otherwise a delivery is
-// one atomic increment and one load, lock-free, no allocation.
+// makes a system call only when the reader is asleep waiting for data into that input (each
+// input is one bit of a mask; the reader names the inputs that can make it ready, the
+// obligatory ones of its state); otherwise a delivery is one atomic increment and two loads,
+// lock-free, no allocation.
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <climits>
+#include <cstddef>
 #include <cstdint>
 #include <ctime>
 
@@ -30,10 +33,19 @@ class Wake {
   Wake(const Wake&) = delete;
   Wake& operator=(const Wake&) = delete;
 
-  /// The writer's side: a value was delivered into one of the reader's inputs.
-  void data() noexcept {
+  /// Every input: the mask of an input that has no bit of its own, or of a sleeper that any
+  /// delivery wakes. Inputs are numbered from 0; the 64th and later share bit 63.
+  static constexpr std::uint64_t kAnyInput = ~std::uint64_t{0};
+  static constexpr std::uint64_t inputBit(std::size_t index) noexcept {
+    return std::uint64_t{1} << (index < 63 ? index : 63);
+  }
+
+  /// The writer's side: a value was delivered into the reader's input(s) ``inputs``.
+  void data(std::uint64_t inputs = kAnyInput) noexcept {
     seq_.fetch_add(1, std::memory_order_seq_cst);
-    if (sleeping_.load(std::memory_order_seq_cst) == kOnData) wakeAll();
+    if (sleeping_.load(std::memory_order_seq_cst) == kOnData && (wanted_.load(std::memory_order_seq_cst) & inputs) != 0) {
+      wakeAll();
+    }
   }
 
   /// Wakes the reader whatever it waits for (its agent's phase changed, the runner stops).
@@ -48,7 +60,14 @@ class Wake {
   /// Sleeps until ``deadline`` (Clock::time_point::max(): none) or a wake-up after arm()
   /// returned ``armed``; ``onData``: a delivery wakes it too (otherwise only notify()).
   void wait(std::uint32_t armed, Clock::time_point deadline, bool onData) noexcept {
-    sleeping_.store(onData ? kOnData : kForced, std::memory_order_seq_cst);
+    wait(armed, deadline, onData ? kAnyInput : std::uint64_t{0});
+  }
+
+  /// The same, woken only by a delivery into one of ``inputs`` (0: none, only notify()). A
+  /// delivery into another input does not wake it (it cannot make the reader ready).
+  void wait(std::uint32_t armed, Clock::time_point deadline, std::uint64_t inputs) noexcept {
+    wanted_.store(inputs, std::memory_order_seq_cst);
+    sleeping_.store(inputs != 0 ? kOnData : kForced, std::memory_order_seq_cst);
     if (seq_.load(std::memory_order_seq_cst) == armed) {
       timespec at{};
       const timespec* timeout = nullptr;
@@ -82,6 +101,7 @@ class Wake {
   static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t), "a futex word is 32 bits");
   std::atomic<std::uint32_t> seq_{0};
   std::atomic<std::uint32_t> sleeping_{kAwake};
+  std::atomic<std::uint64_t> wanted_{kAnyInput};  // the inputs whose delivery wakes the sleeper
 };
 
 }  // namespace earl
