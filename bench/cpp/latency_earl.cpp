@@ -11,49 +11,9 @@
 
 #include "earl/earl.hpp"
 #include "latency.hpp"
+#include "latency_reader.hpp"
 
-namespace {
-
-class Reader final : public earl::Subsystem<Reader> {
- public:
-  explicit Reader(std::size_t capacity) : earl::Subsystem<Reader>("bench/reader", tables()) {
-    in.setWake(wake());
-    samples.reserve(capacity);
-  }
-  earl::InputPort<std::int64_t> in;
-  std::vector<std::int64_t> samples;  // reserved: no allocation in a cycle
-  std::atomic<std::int64_t> written{0};
-  std::atomic<std::uint64_t> taken{0};
-  std::uint64_t empty = 0;  // iterations that found no value (there should be none)
-
-  void updateHook() noexcept override {
-    const std::int64_t start = latency::nowNs();
-    if (in.ready()) {
-      if (samples.size() < samples.capacity()) samples.push_back(start - written.load(std::memory_order_acquire));
-    } else if (steps() > 0) {
-      ++empty;
-    }
-    earl::Subsystem<Reader>::updateHook();
-    taken.fetch_add(1, std::memory_order_release);
-  }
-
-  void send() noexcept {}
-  void receive() noexcept { in.receive(); }
-  bool obligatory() const noexcept { return in.ready(); }
-  bool never() const noexcept { return false; }
-
-  static const earl::FsmTables<Reader>& tables() noexcept {
-    static const earl::BehaviourDef<Reader> behaviours[] = {
-        {"wait/bb", nullptr, 0, &Reader::send, &Reader::receive, &Reader::never, &Reader::never},
-    };
-    static const earl::StateDef states[] = {{"wait", 0}};
-    static const earl::ActivationDef<Reader> activations[] = {{&Reader::obligatory, 0, -1, -1}};
-    static const earl::FsmTables<Reader> t{states, 1, behaviours, 1, nullptr, 0, 0, activations};
-    return t;
-  }
-};
-
-}  // namespace
+using latency::Reader;
 
 int main(int argc, char** argv) {
   const latency::Options options = latency::parse(argc, argv);
