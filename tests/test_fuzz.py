@@ -38,9 +38,6 @@ DIALECTS = {"papyrus", "cameo", "enterprise-architect", "sysml-v2"}
 # message, what is wrong). The short run warns of each input they match (and writes it to
 # tests/fuzz/failed/) instead of failing; remove an entry with its fix.
 KNOWN_DEFECTS: tuple[tuple[str, str, str], ...] = (
-    (properties.CHECK_GEN, "cannot become ROS names",
-     "check passes fields copied with their xmi:id (R002 warning) that gen --target msg refuses as colliding "
-     "ROS names (D004 reports one name twice only at two places)"),
 )
 
 

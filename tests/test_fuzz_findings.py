@@ -16,6 +16,7 @@ from xml.dom import minidom
 import pytest
 
 from earl_m2t.model.limits import MAX_OPERATORS
+from earl_m2t.sysml2.limits import MAX_TEXT_BYTES
 from tests.support.paths import ROOT, SHARED
 
 FINDINGS = SHARED / "fuzz-findings"
@@ -60,6 +61,10 @@ REPLAYS = [
     ("gen-orocos-keyerror/model.uml", ["check"], {1}),
     ("gen-orocos-keyerror/model.uml", ["gen", "--target", "orocos", "--force"], {0}),
     ("minimal/n10_receive_dash.uml", ["gen", "--target", "orocos", "--force"], {0}),
+    # 1.9 MB of SysML v2 text (10,000 predicates of a FABRIC package): past the reader's bound,
+    # refused before the parser spends half a minute on it
+    ("gen-orocos-fabric-timeout/imported.sysml", ["check"], {2}),
+    ("gen-orocos-fabric-timeout/imported.sysml", ["gen", "--target", "orocos", "--force"], {2}),
 ]
 
 
@@ -121,6 +126,36 @@ def test_an_expression_within_the_operator_bound_is_read(tmp_path: Path) -> None
     model.write_text(long_ec(MAX_OPERATORS - 1, "sysml"))
     result = earl("check", model, cwd=ROOT)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_sysml_text_past_the_size_bound_is_refused_at_once_in_one_line_naming_the_file(tmp_path: Path) -> None:
+    """The parser reads some 70 KB a second: a text over MAX_TEXT_BYTES is refused unparsed."""
+    text = (ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml").read_text(encoding="utf-8")
+    model = tmp_path / "large.sysml"
+    padding = MAX_TEXT_BYTES + 1 - len(text.encode("utf-8"))
+    model.write_text(text + "/" * padding, encoding="utf-8")  # a comment line of slashes
+    assert model.stat().st_size == MAX_TEXT_BYTES + 1
+    for command in (["check"], ["gen", "--target", "cpp", "-o", str(tmp_path / "out")], ["show"]):
+        result = earl(command[0], model, *command[1:], cwd=ROOT)
+        assert result.returncode == 2, result.stdout + result.stderr
+        refused = [line for line in result.stderr.splitlines() if "more than the 1,048,576 (1 MiB)" in line]
+        assert len(refused) == 1 and f"{model}: error: SysML v2 text of 1,048,577 bytes" in refused[0], result.stderr
+    model.write_text(text + "/" * (padding - 1), encoding="utf-8")  # at the bound: read (comment skipped quickly)
+    assert model.stat().st_size == MAX_TEXT_BYTES
+    assert "1 MiB" not in earl("show", model, cwd=ROOT).stderr
+
+
+def test_import_fabric_writes_no_text_past_the_size_bound(tmp_path: Path) -> None:
+    """A FABRIC package of 10,000 predicates makes 1.9 MB of SysML v2 text that no command would
+    read back: import fabric says so in one line and writes nothing."""
+    package = FINDINGS / "gen-orocos-fabric-timeout" / "fab" / "velma_task_cs_ros_interface"
+    target = tmp_path / "imported.sysml"
+    result = earl("import", "fabric", package, "-o", target, cwd=ROOT)
+    assert result.returncode == 2, result.stdout + result.stderr
+    [line] = result.stderr.splitlines()
+    assert line.startswith(f"earl-m2t: import fabric: {target}: the model would be SysML v2 text of 1,9"), line
+    assert line.endswith(" bytes, more than the 1,048,576 (1 MiB) the reader parses: nothing written"), line
+    assert not target.exists()
 
 
 def test_a_name_with_a_double_hyphen_keeps_the_fabric_files_well_formed(tmp_path: Path) -> None:

@@ -18,8 +18,10 @@ from genmsg import InvalidMsgSpec, MsgContext, MsgNotFound
 from genmsg.gentools import compute_md5
 from genmsg.msg_loader import load_depends, load_msg_by_type
 
+from earl_m2t import check
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, generate, render
+from earl_m2t.gen.targets.msg import msg_settings
 from earl_m2t.gen.views.msg import (
     CONSTANT_NAME,
     FIELD_NAME,
@@ -27,6 +29,7 @@ from earl_m2t.gen.views.msg import (
     constant_name,
     field_name,
     message_name,
+    name_problems,
     package_name,
 )
 
@@ -319,6 +322,51 @@ def test_hostile_names_forced_give_valid_distinct_names_that_both_parsers_read(t
                                                      ("float64", "from_field")]
     assert fields(specs[f"{PACKAGE}/OperPosition"]) == [(f"{PACKAGE}/VektorGrou00dfe", "position"),
                                                         (f"{PACKAGE}/HeaderMsg", "orientation")]
+
+
+def test_check_reports_every_name_the_view_refuses_at_its_element(tmp_path: Path) -> None:
+    """D003 and D004 ask the view itself which names it refuses, so check and gen cannot drift."""
+    model = model_with(tmp_path, HOSTILE)
+    problems = name_problems(load(model).model, msg_settings())
+    assert {p.rule for p in problems} == {"D003", "D004"}
+    findings = [d for d in check(model) if d.code in ("D003", "D004")]
+    for problem in problems:
+        assert any(d.code == problem.rule and d.location.line == problem.location.line for d in findings), \
+            f"check does not report {problem}"
+
+
+# A field copied with its xmi:id onto the same line: one name twice at one place (R002 warns of
+# the id); check passed it, gen --target msg refused 'position' and 'position'.
+COPIED_FIELD = ('<ownedAttribute xmi:type="uml:Property" xmi:id="_FgyCnOO_1T_EU1uO-WuWiQ" name="position">'
+                '<type xmi:type="uml:PrimitiveType" '
+                'href="pathmap://UML_LIBRARIES/UMLPrimitiveTypes.library.uml#Real"/></ownedAttribute>')
+
+
+def test_a_field_copied_with_its_id_onto_one_line_is_refused_by_check(tmp_path: Path) -> None:
+    text = SAMPLE.read_text(encoding="utf-8")
+    field = text.index('<ownedAttribute xmi:type="uml:Property" xmi:id="_FgyCnOO_1T_EU1uO-WuWiQ"')
+    end = text.index("</ownedAttribute>", field) + len("</ownedAttribute>")
+    model = tmp_path / "model.uml"
+    model.write_text(text[:field] + COPIED_FIELD * 2 + text[end:], encoding="utf-8")
+    shutil.copy(SAMPLE.parent / "EARL.profile.uml", tmp_path / "EARL.profile.uml")
+    errors = [d for d in check(model) if d.severity == "error"]
+    assert [(d.code, d.element) for d in errors] == [("D004", "DataTypes::EncoderReading.position")], errors
+    assert "2 elements are named 'position'" in errors[0].message
+    result = earl("gen", str(model), "--target", "msg", "-o", str(tmp_path / "out"))
+    assert result.returncode == 1 and "D004" in result.stderr and "nothing generated" in result.stderr
+
+
+@pytest.mark.parametrize("name", ["éééééééééé", "éééééééééé/a", "Straße"])
+def test_a_model_name_that_cannot_name_the_package_is_refused_by_check(tmp_path: Path, name: str) -> None:
+    text = (ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml").read_text(encoding="utf-8")
+    model = tmp_path / "model.sysml"
+    model.write_text(text.replace("package PickAndPlace {", f"package '{name}' {{", 1), encoding="utf-8")
+    errors = [d for d in check(model) if d.severity == "error"]
+    assert [(d.code, d.element) for d in errors] == [("D003", "model")], errors
+    assert f"model '{name}': cannot become a ROS package name" in errors[0].message
+    assert errors[0].location.line > 0
+    forced = earl("gen", str(model), "--target", "msg", "--force", "-o", str(tmp_path / "out"))
+    assert forced.returncode == 0, forced.stderr
 
 
 def test_the_target_is_registered_for_the_api_and_the_cli() -> None:

@@ -233,6 +233,55 @@ def test_colliding_component_names_are_refused_in_one_line(tmp_path: Path) -> No
     assert result.returncode != 0 and len(result.stderr.splitlines()) == 1 and "Traceback" not in result.stderr
 
 
+# The thermostat with a second output of its control subsystem, boostCommand/ob, linked to the
+# heater driver's command/ib beside heaterCommand/ob: one Input Buffer fed by two links, which
+# EARL allows (check passes it; the ROS target gives a topic per link).
+TWO_LINKS = {
+    "            interface 'cs,heaterDriver/ve' : InterSubsystemLink connect cs.'heaterCommand/ob' to "
+    "'heaterDriver/ve'.'command/ib';\n":
+    "            interface 'cs,heaterDriver/ve' : InterSubsystemLink connect cs.'heaterCommand/ob' to "
+    "'heaterDriver/ve'.'command/ib';\n"
+    "            interface 'cs,heaterDriver/ve/2' : InterSubsystemLink connect cs.'boostCommand/ob' to "
+    "'heaterDriver/ve'.'command/ib';\n",
+    "            port 'heaterCommand/ob' : OutputBuffer { attribute :>> msg : DataTypes::HeaterCommand; }\n":
+    "            port 'heaterCommand/ob' : OutputBuffer { attribute :>> msg : DataTypes::HeaterCommand; }\n"
+    "            port 'boostCommand/ob' : OutputBuffer { attribute :>> msg : DataTypes::HeaterCommand; }\n",
+    "                out 'heaterCommand/ob';\n":
+    "                out 'heaterCommand/ob';\n                out 'boostCommand/ob';\n",
+}
+
+
+def test_an_input_buffer_fed_by_several_links_is_connected_to_each_and_fabric_is_told_in_a_note(
+        tmp_path: Path) -> None:
+    text = (ROOT / "tests" / "fixtures" / "sysml2" / "thermostat.sysml").read_text(encoding="utf-8")
+    for old, new in TWO_LINKS.items():
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    model = tmp_path / "two_links.sysml"
+    model.write_text(text, encoding="utf-8")
+    assert earl("check", str(model)).returncode == 0
+    out = tmp_path / "out"
+    result = earl("gen", str(model), "--target", "orocos", "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    connections = [tuple(a[:2]) for op, a in calls(out / "deploy" / "system.ops") if op == "connect"]
+    assert ("thermostat_a_cs.heaterCommand_ob", "thermostat_a_heaterDriver_ve.command_ib") in connections
+    assert ("thermostat_a_cs.boostCommand_ob", "thermostat_a_heaterDriver_ve.command_ib") in connections
+    assert (out / "deploy" / "thermostat_a_heaterDriver_ve.ops").is_file()
+    assert (out / "orocos" / "thermostat_a" / "heaterDriver_ve" / "components.cpp").is_file()
+    # FABRIC's deployer names one IPC channel per buffer: that instance's configuration is left
+    # out, said in one note; the instances whose buffers read one channel keep theirs
+    assert not (out / "fabric" / "thermostat_a_heaterDriver_ve" / "config").exists()
+    assert (out / "fabric" / "thermostat_a_heaterDriver_ve" / "spec" / "subsystem.xml").is_file()
+    assert (out / "fabric" / "thermostat_a_heater_re" / "config" / "thermostat_a_heater_re.xml").is_file()
+    notes = [line for line in result.stdout.splitlines() + result.stderr.splitlines()
+             if "FABRIC reads an Input Buffer from one IPC channel" in line]
+    assert notes == ["note: thermostat/a.heaterDriver/ve: FABRIC reads an Input Buffer from one IPC channel, and "
+                     "thermostat/a.heaterDriver/ve.command/ib is fed by 2 channels (thermostat_a_cs_heaterCommand, "
+                     "thermostat_a_cs_boostCommand): fabric/thermostat_a_heaterDriver_ve/config/"
+                     "thermostat_a_heaterDriver_ve.xml is not written (the Orocos components and deploy/ connect "
+                     "every link)"], result.stdout + result.stderr
+
+
 # ---------------------------------------------------------------- against a real RTT and OCL
 
 

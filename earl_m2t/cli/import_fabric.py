@@ -39,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
     from earl_m2t.diagnostics import ModelReadError
     from earl_m2t.fabric import packages_to_model, read_package
     from earl_m2t.gen.names import cpp_identifier
+    from earl_m2t.sysml2.limits import size_problem
 
     target = Path(args.output)
     if not is_sysml2(target):
@@ -54,4 +55,9 @@ def run(args: argparse.Namespace) -> int:
     for note in notes:
         print(f"earl-m2t: note: {note}", file=sys.stderr)
     content = to_sysml(model).encode("utf-8")
+    too_large = size_problem(len(content))
+    if too_large:  # what no command would read back
+        print(f"earl-m2t: import fabric: {target}: the model would be {too_large}: nothing written",
+              file=sys.stderr)
+        return 2
     return write_model_file("import fabric", target, content, args.force, "import")

@@ -17,6 +17,17 @@ import re
 from earl_m2t.model.limits import MAX_OPERATORS
 
 MAX_NESTING = 200
+# The parser (textX on Arpeggio, a PEG parser in pure Python) reads some 70 KB of SysML v2 text
+# a second; a larger text is refused before it is parsed, so that every command on a model ends
+# within seconds (the samples are under 30 KB). docs/untrusted-models.md lists it.
+MAX_TEXT_BYTES = 1 << 20
+
+
+def size_problem(size: int) -> str:
+    """Why SysML v2 text of ``size`` bytes (UTF-8) is not read, or "" when it is not too large."""
+    if size <= MAX_TEXT_BYTES:
+        return ""
+    return f"SysML v2 text of {size:,} bytes, more than the {MAX_TEXT_BYTES:,} (1 MiB) the reader parses"
 
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ufffe\uffff]")
 # what the nesting count skips: strings, quoted names, comments (each up to its end, or the file's)

@@ -21,7 +21,7 @@ from textx.exceptions import TextXError, TextXSyntaxError
 from earl_m2t.diagnostics import ModelReadError, SourceTextError
 from earl_m2t.read.bounded import read_regular_bytes
 from earl_m2t.resources import metamodel_path
-from earl_m2t.sysml2.limits import Refused, line_and_column, refuse_unreadable
+from earl_m2t.sysml2.limits import MAX_TEXT_BYTES, Refused, line_and_column, refuse_unreadable, size_problem
 
 __all__ = [
     "Sysml2SyntaxError",
@@ -79,6 +79,10 @@ def parse_text(text: str, file_name: str = "<text>", model: bool = False) -> Any
     ``OutsideSubset`` nodes rather than syntax errors.
     """
     metamodel = _model_metamodel() if model else _metamodel()
+    if len(text) > MAX_TEXT_BYTES // 4:  # fewer characters cannot make more bytes
+        too_large = size_problem(len(text.encode("utf-8", "surrogatepass")))
+        if too_large:
+            raise Sysml2SyntaxError(file_name, 0, 0, f"{too_large}: not read")
     try:
         refuse_unreadable(text)
     except Refused as refused:
@@ -99,7 +103,11 @@ def parse_text(text: str, file_name: str = "<text>", model: bool = False) -> Any
 def parse_file(path: Path, model: bool = False) -> Any:
     """Parse a SysML v2 file (UTF-8) and return its root namespace."""
     try:
-        text = read_regular_bytes(path).decode("utf-8")
+        data = read_regular_bytes(path)
+        too_large = size_problem(len(data))
+        if too_large:
+            raise Sysml2SyntaxError(str(path), 0, 0, f"{too_large}: not read")
+        text = data.decode("utf-8")
     except ModelReadError as error:
         raise Sysml2SyntaxError(str(path), 0, 0, f"cannot read the file: {error.message}") from None
     except UnicodeDecodeError as error:

@@ -936,6 +936,23 @@ def name_not_identifier(s: Sample) -> Expect:
     return Expect(s.id(memory), "desired-position/m")
 
 
+def model_name_not_ascii(s: Sample) -> Expect:
+    """D003: the model is renamed Straße: the ROS targets cannot name their message package after
+    it (reported at the System, which the package stands for)."""
+    model = s._find(s.root, "uml:Model", "model")
+    model.set("name", "Straße")
+    system = next(el for el in s.root.iter() if isinstance(el.tag, str) and el.tag.endswith("}System"))
+    return Expect(system.get("base_Class") or "", "model 'Straße': cannot become a ROS package name")
+
+
+def field_named_like_a_python_keyword(s: Sample) -> Expect:
+    """D003: the field x of Vector3 is renamed yield: a Python keyword, which the generated
+    ROS message classes cannot take as a field name."""
+    x = s.attribute("Vector3", "x")
+    x.set("name", "yield")
+    return Expect(s.id(x), "Vector3.yield")
+
+
 def memory_names_differ_in_case(s: Sample) -> Expect:
     """D004: FingerController gets a memory IntegralError/m right after integralError/m;
     the two differ only in case and map to one identifier."""
@@ -1209,6 +1226,8 @@ VARIANTS: dict[str, Mutation] = {
     "D001-field": field_of_unknown_type,
     "D002": recursive_datatype,
     "D003": name_not_identifier,
+    "D003-model-name": model_name_not_ascii,
+    "D003-python-keyword": field_named_like_a_python_keyword,
     "D004": memory_names_differ_in_case,
     "D004-datatype-case": datatype_names_differ_in_case,
     "D004-ros-field": field_names_differ_in_ros_spelling,

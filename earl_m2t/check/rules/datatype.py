@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, Memory, PartialFunction, PrimitivePredicate
@@ -17,6 +18,9 @@ from earl_m2t.model.naming import (
     windows_reserved,
 )
 from earl_m2t.shorten import shortened
+
+if TYPE_CHECKING:
+    from earl_m2t.gen.views.msg import NameProblem
 
 
 @rule("D001")
@@ -82,12 +86,33 @@ def _named(model: EarlModel) -> Iterator[tuple[str, str, Location, str, str]]:
 _ROS_KEYS: dict[str, Callable[[str], str]] = {"snake": field_name, "message": lambda name: message_name(name).lower()}
 
 
+def _message_problems(model: EarlModel, rule_code: str) -> Iterator[NameProblem]:
+    """The names the ROS messages (``gen --target msg``, which ``ros`` and ``orocos`` include)
+    refuse, as their view finds them: the model's name, reserved message and field names,
+    enumeration literals, names that collide."""
+    from earl_m2t.gen.errors import GenError
+    from earl_m2t.gen.targets.msg import msg_settings
+    from earl_m2t.gen.views.msg import name_problems
+
+    try:
+        settings = msg_settings()
+    except GenError:  # the installation lacks the target: gen says so
+        return
+    yield from (problem for problem in name_problems(model, settings) if problem.rule == rule_code)
+
+
 @rule("D003")
 def name_not_identifier(model: EarlModel) -> Iterator[Finding]:
+    reported: set[str] = set()
     for name, path, location, _, _ in _named(model):
         problem = identifier_problem(name)
         if problem:
+            reported.add(path)
             yield Finding(f"{path}: the name cannot become a C++ / ROS identifier: {problem}", location, path)
+    for message_problem in _message_problems(model, "D003"):
+        if message_problem.path not in reported:
+            reported.add(message_problem.path)
+            yield Finding(message_problem.text, message_problem.location, shortened(message_problem.path))
 
 
 def _paths_scope(scope: str) -> bool:
@@ -104,6 +129,7 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
         if ros:
             by_ros_name.setdefault((scope, _ROS_KEYS[ros](name)), []).append((name, path, location))
     reported: set[str] = set()
+    involved: set[str] = set()  # every path of a collision reported
     for (scope, key), items in by_scope.items():
         if len(items) == 1:
             continue  # nearly every name: nothing to compare it with
@@ -111,10 +137,12 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
         _, path, location = items[-1]
         if len(names) > 1:
             reported.add(path)
+            involved.update(p for _, p, _ in items)
             yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier or file "
                           f"name '{key}'", location, path)
-        elif len({loc for _, _, loc in items}) > 1 and not _paths_scope(scope):
+        elif not _paths_scope(scope):  # one name twice, even at one place (an element copied with its id)
             reported.add(path)
+            involved.update(p for _, p, _ in items)
             yield Finding(f"{path}: {len(items)} elements are named '{names[0]}'", location, path)
     for (_, key), items in by_ros_name.items():
         if len(items) == 1:
@@ -122,8 +150,13 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
         names = list(dict.fromkeys(name for name, _, _ in items))
         _, path, location = items[-1]
         if len(names) > 1 and path not in reported:
+            involved.update(p for _, p, _ in items)
             yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same ROS name '{key}'",
                           location, path)
+    for message_problem in _message_problems(model, "D004"):
+        if message_problem.path not in involved:
+            involved.add(message_problem.path)
+            yield Finding(message_problem.text, message_problem.location, shortened(message_problem.path))
 
 
 def _named_with_model(model: EarlModel) -> Iterator[tuple[str, str, Location]]:

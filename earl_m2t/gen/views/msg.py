@@ -19,6 +19,7 @@ from typing import Any
 from earl_m2t.gen.errors import GenError
 from earl_m2t.model.datatypes import DataType, Field
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.location import Location
 from earl_m2t.model.naming import _table, field_name, identifier_problem, message_name
 
 Data = dict[str, Any]
@@ -58,6 +59,22 @@ class MsgTarget:
                    | frozenset(table["ros_reserved"]) | frozenset(table["cpp_keywords"]))
 
 
+@dataclass(frozen=True)
+class NameProblem:
+    """A name the messages cannot use as it is: ``rule`` D003 (not a ROS name) or D004 (two
+    names map to one ROS name); ``text`` as gen prints it after the rule, ``path`` and
+    ``location`` of the element whose name it is. Rules D003 and D004 of ``check`` report these
+    too (:func:`name_problems`), so that a model check passes is one gen accepts."""
+
+    rule: str
+    text: str
+    path: str
+    location: Location
+
+    def __str__(self) -> str:
+        return f"{self.rule} {self.text}"
+
+
 @dataclass
 class MsgView:
     package: str
@@ -86,14 +103,15 @@ def _comment(text: str) -> str:
 class _Names:
     """Hands out distinct ROS names in one scope and records what had to be changed."""
 
-    def __init__(self, problems: list[str], fold_case: bool, joiner: str) -> None:
+    def __init__(self, problems: list[NameProblem], fold_case: bool, joiner: str) -> None:
         self._taken: dict[str, str] = {}  # key -> the model name that has it
         self._last_number: dict[str, int] = {}
         self._problems = problems
         self._fold = fold_case
         self._joiner = joiner
 
-    def take(self, name: str, ros: str, where: str, what: str, reserved: frozenset[str], suffix: str) -> str:
+    def take(self, name: str, ros: str, where: str, what: str, reserved: frozenset[str], suffix: str,
+             path: str, location: Location) -> str:
         problem = identifier_problem(name) if name.strip() else "the name is empty"
         if ros in reserved:
             problem = problem or f"'{ros}' is reserved in ROS messages or their generated code"
@@ -106,11 +124,12 @@ class _Names:
                 ros = f"{base}{self._joiner}{n}"
             self._last_number[self._key(base)] = n
         if problem:
-            self._problems.append(f"D003 {where}: '{name}' cannot become a ROS {what}: {problem} "
-                                  f"(--force: '{ros}')")
+            self._problems.append(NameProblem("D003", f"{where}: '{name}' cannot become a ROS {what}: {problem} "
+                                                      f"(--force: '{ros}')", path, location))
         if n > 1:
-            self._problems.append(f"D004 {where}: '{name}' and '{self._taken[self._key(base)]}' "
-                                  f"both map to the ROS {what} '{base}' (--force: '{ros}')")
+            self._problems.append(NameProblem("D004", f"{where}: '{name}' and '{self._taken[self._key(base)]}' "
+                                                      f"both map to the ROS {what} '{base}' (--force: '{ros}')",
+                                              path, location))
         self._taken[self._key(ros)] = name
         return ros
 
@@ -126,26 +145,55 @@ def build_view(model: EarlModel, target: MsgTarget, strict: bool = True) -> MsgV
     ``strict``, when a name cannot become a ROS name or two names collide)."""
     if model.system is None:
         raise GenError("the model has no EARL System to generate")
-    problems: list[str] = []
-    model_name = model.name or model.system.name or "model"
-    package = package_name(model_name, target.package_suffix)
-    if identifier_problem(model_name):
-        problems.append(f"D003 model '{model_name}': cannot become a ROS package name: "
-                        f"{identifier_problem(model_name)} (--force: '{package}')")
-    keys = _reachable(model)
-    messages = _Names(problems, fold_case=True, joiner="")  # file names: compared without case
-    names = {key: messages.take(model.datatypes[key].name, message_name(model.datatypes[key].name),
-                                f"dataType {key}", "message name", target.reserved_messages, "Msg")
-             for key in keys}
-    result = [_message(model, key, names, target, problems) for key in keys]
+    problems: list[NameProblem] = []
+    name, package, result = _mapped(model, target, problems)
     if problems and strict:
         raise GenError(f"{len(problems)} name(s) cannot become ROS names (--force maps them anyway): "
-                       + "; ".join(problems))
+                       + "; ".join(map(str, problems)))
     for message in result:
         if not MESSAGE_NAME.match(message["name"]):  # the mapping guarantees it; a last guard
             raise GenError(f"internal: '{message['name']}' is not a ROS message name")
-    return MsgView(package=package, model=_comment(model_name),
+    return MsgView(package=package, model=_comment(name),
                    messages=sorted(result, key=lambda m: m["name"]))
+
+
+def name_problems(model: EarlModel, target: MsgTarget) -> list[NameProblem]:
+    """What :func:`build_view` refuses in the names of a model. A model it cannot generate for
+    another reason (no System, an unresolved or recursive dataType: other rules report them)
+    gives the problems found before that."""
+    if model.system is None:
+        return []
+    problems: list[NameProblem] = []
+    try:
+        _mapped(model, target, problems)
+    except GenError:
+        pass
+    return problems
+
+
+def model_name(model: EarlModel) -> str:
+    """The name the package is named after: the model's, else its System's."""
+    system = model.system
+    return model.name or (system.name if system is not None else "") or "model"
+
+
+def _mapped(model: EarlModel, target: MsgTarget, problems: list[NameProblem]) -> tuple[str, str, list[Data]]:
+    """The model's name, the package name and the messages, each name mapped to a ROS name;
+    what had to be changed is added to ``problems``."""
+    system = model.system
+    name = model_name(model)
+    package = package_name(name, target.package_suffix)
+    if identifier_problem(name):
+        problems.append(NameProblem("D003", f"model '{name}': cannot become a ROS package name: "
+                                            f"{identifier_problem(name)} (--force: '{package}')", "model",
+                                    system.location if system is not None else Location(model.file, 0, 0)))
+    keys = _reachable(model)
+    messages = _Names(problems, fold_case=True, joiner="")  # file names: compared without case
+    names = {key: messages.take(model.datatypes[key].name, message_name(model.datatypes[key].name),
+                                f"dataType {key}", "message name", target.reserved_messages, "Msg",
+                                key, model.datatypes[key].location)
+             for key in keys}
+    return name, package, [_message(model, key, names, target, problems) for key in keys]
 
 
 def _reachable(model: EarlModel) -> list[str]:
@@ -184,7 +232,7 @@ def _reachable(model: EarlModel) -> list[str]:
 
 
 def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarget,
-             problems: list[str]) -> Data:
+             problems: list[NameProblem]) -> Data:
     datatype = model.datatypes[key]
     name = names[key]
     if datatype.kind == "enumeration":
@@ -194,7 +242,7 @@ def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarge
         scope = _Names(problems, fold_case=False, joiner="_")
         constants = [{"type": target.enumeration,
                       "name": scope.take(lit, constant_name(lit), f"literal {key}.{lit}", "constant name",
-                                         frozenset(), "_VALUE"),
+                                         frozenset(), "_VALUE", f"{key}.{lit}", datatype.location),
                       "value": index, "comment": _comment(lit), "trace": key}
                      for index, lit in enumerate(datatype.literals)]
         fields = [{"type": target.enumeration, "name": "value",
@@ -206,7 +254,7 @@ def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarge
     fields = []
     for f in datatype.fields:
         ros = scope.take(f.name, field_name(f.name), f"field {key}.{f.name}", "field name",
-                         target.reserved_fields, "_field")
+                         target.reserved_fields, "_field", f"{key}.{f.name}", f.location)
         fields.append({"type": _field_type(model, f, names, target, f"field {key}.{f.name}"),
                        "name": ros, "comment": _field_comment(model, f, names), "trace": f"{key}.{f.name}"})
     return {"name": name, "key": key, "what": _comment(f"dataType {key}"), "constants": [], "fields": fields,

@@ -148,9 +148,9 @@ class _Builder:
         links = self._links()
         for instance in instances:
             instance["switch"] = instance_switch(self.wiring, instance["trace"], links, instance["name"])
-        self._fabric_configurations(placed, links)
+        several = self._fabric_configurations(placed, links)
         self._connections(instances, links)
-        notes = [d["fabric_note"] for d in definitions if d["fabric_note"]]
+        notes = [d["fabric_note"] for d in definitions if d["fabric_note"]] + several
         if self.wiring is not None:
             notes.append(self.target.fabric_switch_note)
         return OrocosView(system=self._system(definitions, instances, links), definitions=definitions,
@@ -239,9 +239,14 @@ class _Builder:
             links.append(entry)
         return links
 
-    def _fabric_configurations(self, placed: list[tuple[Data, Data]], links: list[Data]) -> None:
-        """FABRIC's run-time configuration of every instance whose definition FABRIC can express."""
+    def _fabric_configurations(self, placed: list[tuple[Data, Data]], links: list[Data]) -> list[str]:
+        """FABRIC's run-time configuration of every instance whose definition FABRIC can express,
+        and whose every Input Buffer reads one IPC channel: FABRIC's deployer names one channel
+        per buffer (``<io_buffer alias name>``, the first of an alias counts). An instance with an
+        Input Buffer fed by several outputs gets none, and a note says so; its components and
+        deployment connect every link (an RTT input port takes several connections)."""
         channels: dict[str, str] = {}  # "<master>.<input port>" -> the IPC channel of the linked output
+        several: dict[str, list[str]] = {}  # the same, of an input port fed by several channels
         variable: dict[str, list[str]] = {}  # the same, of the variable links (several per input port)
         # the channel a buffer names (import fabric carries FABRIC's <io_buffer name>), else one of its own
         carried = {".".join(self.port_of[buf.path]): buf.channel
@@ -257,17 +262,28 @@ class _Builder:
                 target = f"{connection['to'].partition('.')[0]}.{connection['target_port']}"
                 variable.setdefault(target, []).append(alias_of[source])
                 continue
-            if connection["to"] in channels:
-                raise GenError(f"{connection['to']}: FABRIC reads an Input Buffer from one channel, "
-                               "this one has several links")
-            channels[connection["to"]] = alias_of[connection["from"]]
+            channel = alias_of[connection["from"]]
+            if channels.setdefault(connection["to"], channel) != channel:
+                several.setdefault(connection["to"], [channels[connection["to"]]])
+                if channel not in several[connection["to"]]:
+                    several[connection["to"]].append(channel)
         for port, channel in carried.items():
             channels.setdefault(port, channel)
+        buffer_of = {f"{master}.{port}": path for path, (master, port) in self.port_of.items()}
+        notes: list[str] = []
         for instance, definition in placed:
-            instance["fabric"] = None if definition["fabric"] is None else instance_configuration(
+            fed = sorted(port for port in several if port.partition(".")[0] == instance["name"])
+            if fed and definition["fabric"] is not None:
+                notes.append(f"{instance['trace']}: FABRIC reads an Input Buffer from one IPC channel, and "
+                             + "; ".join(f"{buffer_of.get(port, port)} is fed by {len(several[port])} channels "
+                                         f"({', '.join(several[port])})" for port in fed)
+                             + f": {FABRIC_FOLDER}/{instance['package']}/config/{instance['name']}.xml is not "
+                             "written (the Orocos components and deploy/ connect every link)")
+            instance["fabric"] = None if definition["fabric"] is None or fed else instance_configuration(
                 instance, definition["fabric"], definition["pfs"], channels, self.target.fabric)
             if instance["fabric"] is not None and variable:
                 fabric_variable_buffers(instance, channels, variable)
+        return notes
 
     @staticmethod
     def _connections(instances: list[Data], links: list[Data]) -> None:
