@@ -134,7 +134,9 @@ def cpu_hogs(count: int) -> Iterator[None]:
 
 
 def handoffs(binary: Path, samples: int) -> dict:
-    result = subprocess.run([str(binary), "--samples", str(samples)], capture_output=True, text=True, timeout=600)
+    # in the work folder: RTT writes its orocos.log into the current one
+    result = subprocess.run([str(binary), "--samples", str(samples)], capture_output=True, text=True, timeout=600,
+                            cwd=binary.parent)
     if result.returncode != 0:
         sys.exit(f"{binary.name} failed:\n{result.stderr}")
     row: dict = json.loads(result.stdout.strip().splitlines()[-1])
@@ -148,7 +150,8 @@ def cpu_seconds(pid: int) -> float:
 
 def idle_cpu(command: list[str], window: float) -> float:
     """% of one core the process uses over ``window`` seconds, from 1 s after its start."""
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                               cwd=Path(command[0]).parent)
     try:
         time.sleep(1.0)
         first, started = cpu_seconds(process.pid), time.perf_counter()

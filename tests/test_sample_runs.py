@@ -141,13 +141,14 @@ def manip_states(lines: list[str]) -> list[str]:
     return [m.group(2) or m.group(4) for m in map(STATE.match, lines) if m]
 
 
-def test_threaded_runs_reach_the_sequence_under_load(project: tuple[Path, str]) -> None:
-    """Every subsystem in its own thread at 1 ms, the machine loaded: task/a's one-shot setpoint
-    is never lost (manipulatorCommand/ib is a queue and activates manip/a.cs), so every run goes
-    idle -> jointMove -> idle -> emergencyStop."""
+@pytest.mark.parametrize("plan", ["period", "subsystem"])
+def test_threaded_runs_reach_the_sequence_under_load(project: tuple[Path, str], plan: str) -> None:
+    """Threaded at 1 ms (the periodic subsystems a thread per period, or each its own), the
+    machine loaded: task/a's one-shot setpoint is never lost (manipulatorCommand/ib is a queue
+    and activates manip/a.cs), so every run goes idle -> jointMove -> idle -> emergencyStop."""
     build, _ = project
     env = {**os.environ, "PICK_AND_PLACE_QUIET": "1"}
-    command = [build / "PickAndPlace_system", "--threaded", str(LOADED_TIMEOUT)]
+    command = [build / "PickAndPlace_system", "--threaded", str(LOADED_TIMEOUT), "--threads", plan]
     failures = []
     with cpu_hogs():
         for attempt in range(LOADED_RUNS):
