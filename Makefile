@@ -25,8 +25,9 @@ demo: bytecode
 	$(VENV)/bin/earl-m2t show $(SAMPLE)
 	$(VENV)/bin/earl-m2t report $(SAMPLE) -o build/report
 
-# Orocos RTT and OCL for the orocos target's tests: found, or built once into a cache. A failed
-# build does not stop here: the Orocos tests then fail with the build log's tail.
+# Orocos RTT and OCL for the orocos target's tests, and ROS 2 Jazzy for the ros2 target's: found,
+# or built once into a cache. A failed build does not stop here: those tests then fail with the
+# build log's tail.
 # The suite runs each loaded campaign (a sample under a CPU hog per core) SUITE_RUNS times;
 # `make campaign` runs the campaigns alone, CAMPAIGN_RUNS times each (tests/support/campaign.py).
 SUITE_RUNS ?= 10
@@ -35,6 +36,7 @@ CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_har
 	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py
 test: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
+	@$(PYTHON) tests/support/ros2.py ensure >/dev/null || true
 	EARL_CAMPAIGN_RUNS=$(SUITE_RUNS) $(PY) -m pytest -q --durations=30
 
 campaign: bytecode
