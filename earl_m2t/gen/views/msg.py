@@ -256,7 +256,9 @@ def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarge
         ros = scope.take(f.name, field_name(f.name), f"field {key}.{f.name}", "field name",
                          target.reserved_fields, "_field", f"{key}.{f.name}", f.location)
         fields.append({"type": _field_type(model, f, names, target, f"field {key}.{f.name}"),
-                       "name": ros, "comment": _field_comment(model, f, names), "trace": f"{key}.{f.name}"})
+                       "name": ros, "comment": _field_comment(model, f, names), "trace": f"{key}.{f.name}",
+                       # a variable array's bound (None: unbounded), for ROS 2's bounded sequences
+                       "bound": f.upper if f.is_array and not f.is_fixed_array else None})
     return {"name": name, "key": key, "what": _comment(f"dataType {key}"), "constants": [], "fields": fields,
             "trace": key}
 

@@ -1,0 +1,55 @@
+"""The ``ros2`` target (``transforms/ros2/``): ament_cmake packages for ROS 2 Jazzy, namely the
+messages (the ``msg`` target's messages in ROS 2 syntax, through ``rosidl_generate_interfaces``), one package per
+agent (an rclcpp component per subsystem definition) and ``<model>_bringup`` (the system's
+launch file, composed or as separate processes), next to the ``cpp`` target's runtime and
+headers under ``earl/`` and its user files. Its view starts from the ``ros`` target's."""
+
+from __future__ import annotations
+
+from earl_m2t.gen.engine import load_target
+from earl_m2t.gen.engine import render as render_template
+from earl_m2t.gen.errors import GenError
+from earl_m2t.gen.rendered import MSG_FILE_MARKER, Rendered, put_file
+from earl_m2t.gen.target import Renderer, TargetRun, View, Views
+from earl_m2t.gen.targets import cpp, msg, ros
+from earl_m2t.gen.views.ros2 import Ros2Target, Ros2View, build_view
+
+
+def _ros2_view(views: Views) -> Ros2View:
+    return build_view(views.model, views.get(ros.VIEW), views.get(msg.VIEW), Ros2Target.from_spec(load_target("ros2")))
+
+
+VIEW = View("ros2", _ros2_view)
+
+
+def _render(run: TargetRun) -> Rendered:
+    cpp_files = cpp.RENDERER.render(run.for_target("cpp"))
+    view = run.views.get(VIEW)
+    env = run.environment()
+    generated = cpp.runtime_and_headers(cpp_files, "earl/")
+    system, groups = view.system, run.spec["templates"]
+    for message in view.messages:
+        for template, pattern in sorted(groups["message"].items()):
+            content = render_template(env, template, model=system["model"], package=system["msgs"], message=message)
+            if not content.startswith(MSG_FILE_MARKER):
+                raise GenError(f"template {template} must start with {MSG_FILE_MARKER.decode()!r}")
+            put_file(generated, pattern.format(package=system["msgs"], message=message["name"]), content)
+    names = {"msgs": system["msgs"], "bringup": system["bringup"],
+             "model": view.convert["ns"].removesuffix("_ros2")}
+    for template, pattern in sorted(groups["msgs"].items()):
+        put_file(generated, pattern.format(**names), render_template(env, template, system=system))
+    for template, pattern in sorted(groups["system"].items()):
+        put_file(generated, pattern.format(**names),
+                 render_template(env, template, system=system, convert=view.convert))
+    for package in view.packages:
+        for template, pattern in sorted(groups["agent"].items()):
+            put_file(generated, pattern.format(package=package["name"], **names),
+                     render_template(env, template, system=system, package=package))
+    for component in view.components:
+        for template, pattern in sorted(groups["node"].items()):
+            put_file(generated, pattern.format(package=component["package"], node=component["name"], **names),
+                     render_template(env, template, system=system, node=component))
+    return cpp.beside_user_files(generated, cpp_files.user)
+
+
+RENDERER = Renderer(views=ros.RENDERER.views + (VIEW,), render=_render)

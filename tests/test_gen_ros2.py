@@ -1,0 +1,223 @@
+"""The ROS 2 target: the sample's ament_cmake packages (with its shipped user code), generated the
+same on every run, whose launch file remaps exactly the model's links with the QoS of each
+receive mode; against a real ROS 2 Jazzy (tests/support/ros2.py) the messages pass rosidl's own
+parser, `colcon build` builds the workspace, and `ros2 launch` runs the model, composed and as
+separate processes: manip/a.cs goes idle -> jointMove -> idle -> emergencyStop."""
+
+from __future__ import annotations
+
+import ast
+import json
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+import pytest
+
+from earl_m2t.api import load
+from tests.support import ros2
+from tests.support.load import run_until
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
+USER = SAMPLE.parent / "user"
+# launch prefixes each line of a process with "[<process>] "
+STATE = re.compile(r"^(?:\[[^\]]+\] )?step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
+SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
+PACKAGES = ["pick_and_place_bringup", "pick_and_place_grip_a", "pick_and_place_manip_a", "pick_and_place_msgs",
+            "pick_and_place_task_a"]
+LAUNCH_TIMEOUT = 90.0  # s: start-up of 3 containers (or 17 processes) and the barrier, then about 1 s of script
+
+
+def gen(out: Path, *flags: str) -> str:
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(SAMPLE), "--target", "ros2", "-o", str(out),
+                             *flags], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return result.stdout
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """(a colcon workspace whose src/ is gen's output, gen's output): the sample's user code
+    copied into src/user/ first."""
+    ws = tmp_path_factory.mktemp("ros2_ws")
+    shutil.copytree(USER, ws / "src" / "user")
+    return ws, gen(ws / "src")
+
+
+def launch_agents(src: Path) -> list[tuple[str, str, list[tuple[str, str, str, str, dict[str, object],
+                                                                list[tuple[str, str]]]]]]:
+    """The AGENTS table of the generated launch file, read without importing launch."""
+    tree = ast.parse((src / "pick_and_place_bringup" / "launch" / "system.launch.py").read_text())
+    value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                 and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
+    return ast.literal_eval(value)  # type: ignore[no-any-return]
+
+
+def snake(name: str) -> str:
+    """A sample name in snake_case: motorController3/ve -> motor_controller3_ve."""
+    return re.sub(r"\W+", "_", re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", name)).lower()
+
+
+def topic(buffer_path: str) -> str:
+    """The documented topic of a buffer: /<agent>/<subsystem>/<buffer>, each in snake_case."""
+    subsystem_path, _, buffer = buffer_path.rpartition(".")
+    agent, _, subsystem = subsystem_path.partition(".")
+    return "/" + "/".join(snake(part) for part in (agent, subsystem, buffer))
+
+
+def test_gen_writes_an_ament_package_per_agent_the_messages_and_the_bringup(workspace: tuple[Path, str]) -> None:
+    ws, output = workspace
+    src = ws / "src"
+    assert sorted(p.parent.name for p in src.glob("*/package.xml")) == PACKAGES
+    for package in PACKAGES:
+        root = ElementTree.parse(src / package / "package.xml").getroot()
+        assert root.get("format") == "3" and root.findtext("export/build_type") == "ament_cmake"
+    assert "rosidl_generate_interfaces(" in (src / "pick_and_place_msgs" / "CMakeLists.txt").read_text()
+    manip = (src / "pick_and_place_manip_a" / "CMakeLists.txt").read_text()
+    assert re.findall(r"rclcpp_components_register_node\(\S+ PLUGIN \"([\w:]+)\" EXECUTABLE (\w+)\)", manip) == [
+        ("pick_and_place_manip_a::Cs", "cs_node"), ("pick_and_place_manip_a::MotorControllerKVe",
+                                                    "motor_controller_k_ve_node"),
+        ("pick_and_place_manip_a::MotorKRe", "motor_k_re_node")]
+    kept = [line for line in output.splitlines() if line.startswith("kept ")]
+    assert len(kept) == 14 and not [line for line in output.splitlines() if line.startswith(("created ", "orphaned "))]
+
+
+def test_generation_is_deterministic_and_keeps_user_code(tmp_path: Path) -> None:
+    first, second = tmp_path / "a" / "out", tmp_path / "b" / "out"
+    gen(first)
+    gen(second)
+    files = sorted(p.relative_to(first).as_posix() for p in first.rglob("*") if p.is_file())
+    assert files == sorted(p.relative_to(second).as_posix() for p in second.rglob("*") if p.is_file())
+    assert all((first / f).read_bytes() == (second / f).read_bytes() for f in files)
+    user_file = first / "user" / "manip_a" / "cs" / "jointMove_pf.hpp"
+    user_file.write_text("// mine\n")
+    again = gen(first)
+    assert user_file.read_text() == "// mine\n" and "created " not in again
+
+
+def test_the_remaps_of_the_launch_file_are_exactly_the_links_of_the_model(workspace: tuple[Path, str]) -> None:
+    ws, _ = workspace
+    model = load(str(SAMPLE)).model
+    remaps: dict[str, str] = {}
+    paths = set()
+    for namespace, _, nodes in launch_agents(ws / "src"):
+        for _, _, _, name, parameters, remappings in nodes:
+            paths.add(parameters["path"])
+            for source, target in remappings:
+                assert source.startswith(f"/{namespace}/{name}/") and source not in remaps
+                remaps[source] = target
+    assert len(model.links) == 32
+    assert remaps == {topic(link.target): topic(link.source) for link in model.links}
+    assert paths == {sub.path for sub in model.subsystems}
+
+
+def test_qos_follows_the_receive_modes(workspace: tuple[Path, str]) -> None:
+    """manip/a.cs queues its commands (reliable, keep all; task/a.cs publishes them so) and
+    keeps the latest value of every other input (reliable, transient local, depth 1)."""
+    ws, _ = workspace
+    src = ws / "src"
+
+    def qos_of(source: Path) -> dict[str, str]:
+        found = re.findall(r'"~/(\w+)", (rclcpp::QoS\([^;]*?\)\.\w+\(\)\.\w+\(\))', source.read_text())
+        return dict(found)
+
+    manip = qos_of(src / "pick_and_place_manip_a" / "src" / "cs_component.cpp")
+    latest = "rclcpp::QoS(rclcpp::KeepLast(1)).reliable().transient_local()"
+    queue = "rclcpp::QoS(rclcpp::KeepAll()).reliable().durability_volatile()"
+    assert manip["manipulator_command_ib"] == queue
+    assert {t: q for t, q in manip.items() if t.endswith("_ib") and t != "manipulator_command_ib"} == {
+        f"motor_controller_state{k}_ib": latest for k in range(1, 7)}
+    assert qos_of(src / "pick_and_place_task_a" / "src" / "cs_component.cpp")["manipulator_command_ob"] == queue
+
+
+# ---------------------------------------------------------------- against a real ROS 2 Jazzy
+
+
+@pytest.fixture(scope="module")
+def jazzy() -> ros2.Installation:
+    """The ROS 2 prefix of tests/support/ros2.py. With ../shared/vendor/ros2 beside the checkout
+    a missing or failed build is a failure (never a skip), with the build log's tail."""
+    try:
+        return ros2.installation()
+    except ros2.Ros2BuildFailed as failure:
+        pytest.fail(str(failure), pytrace=False)
+    except ros2.Ros2Unavailable as reason:
+        if ros2.VENDOR.is_dir() or os.environ.get("ROS2_JAZZY_PREFIX"):
+            pytest.fail(str(reason), pytrace=False)
+        pytest.skip(str(reason))
+
+
+PARSE = """
+import json, sys
+from rosidl_adapter.parser import parse_message_file
+out = {}
+for path in sys.argv[2:]:
+    message = parse_message_file(sys.argv[1], path)
+    out[message.msg_name] = [[str(f.type), f.name, sorted(f.annotations)] for f in message.fields]
+print(json.dumps(out))
+"""
+
+
+def test_rosidl_parses_every_generated_message(workspace: tuple[Path, str], jazzy: ros2.Installation) -> None:
+    ws, _ = workspace
+    messages = sorted((ws / "src" / "pick_and_place_msgs" / "msg").glob("*.msg"))
+    result = subprocess.run([str(jazzy.python), "-c", PARSE, "pick_and_place_msgs", *map(str, messages)],
+                            capture_output=True, text=True, env=jazzy.environment(), timeout=120)
+    assert result.returncode == 0, result.stderr
+    parsed = json.loads(result.stdout)
+    assert sorted(parsed) == sorted(m.stem for m in messages)
+    # a comment is only a comment: rosidl reads no unit (a bracket) nor other annotation in it
+    assert {name for fields in parsed.values() for _, _, annotations in fields for name in annotations} == {"comment"}
+    assert parsed["ManipulatorCommand"][0][:2] == ["pick_and_place_msgs/JointPosition[<=1]", "joint_pos_setpoint"]
+    assert parsed["JointPosition"] == [["float64[6]", "q", ["comment"]]]
+
+
+@pytest.fixture(scope="module")
+def built(workspace: tuple[Path, str], jazzy: ros2.Installation) -> Path:
+    ws, _ = workspace
+    result = subprocess.run(jazzy.colcon_build_command(), cwd=ws, capture_output=True, text=True,
+                            env=jazzy.environment(), timeout=1800)
+    assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+    return ws
+
+
+def test_colcon_builds_a_component_library_per_agent_and_an_executable_per_definition(built: Path) -> None:
+    install = built / "install"
+    for agent in ("grip_a", "manip_a", "task_a"):
+        assert (install / f"pick_and_place_{agent}" / "lib" / f"libpick_and_place_{agent}_components.so").is_file()
+    executables = sorted(p.relative_to(install).as_posix() for p in install.glob("*/lib/*/*_node"))
+    assert executables == [
+        "pick_and_place_grip_a/lib/pick_and_place_grip_a/cs_node",
+        "pick_and_place_grip_a/lib/pick_and_place_grip_a/finger_controller_ve_node",
+        "pick_and_place_grip_a/lib/pick_and_place_grip_a/finger_motor_re_node",
+        "pick_and_place_manip_a/lib/pick_and_place_manip_a/cs_node",
+        "pick_and_place_manip_a/lib/pick_and_place_manip_a/motor_controller_k_ve_node",
+        "pick_and_place_manip_a/lib/pick_and_place_manip_a/motor_k_re_node",
+        "pick_and_place_task_a/lib/pick_and_place_task_a/cs_node"]
+    assert (install / "pick_and_place_msgs" / "include" / "pick_and_place_msgs" / "pick_and_place_msgs" / "msg"
+            / "manipulator_command.hpp").is_file()
+
+
+def manip_states(lines: list[str]) -> list[str]:
+    """The states manip/a.cs entered, in order, from the launch's output."""
+    return [m.group(1) or m.group(3) for m in map(STATE.match, (line.strip() for line in lines)) if m]
+
+
+@pytest.mark.parametrize("composed", ["true", "false"])
+def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(
+        built: Path, jazzy: ros2.Installation, tmp_path: Path, composed: str) -> None:
+    """One launch at 1 ms periods, composed (a container per agent) or a process per node, on a
+    ROS domain of its own; it stops as soon as manip/a.cs reached emergencyStop."""
+    env = jazzy.environment(built, domain_id=random.randint(1, 100))
+    env.update(ROS_LOG_DIR=str(tmp_path / "log"), ROS_HOME=str(tmp_path / "home"), PICK_AND_PLACE_QUIET="1")
+    lines, reached = run_until(["ros2", "launch", "pick_and_place_bringup", "system.launch.py", "period:=0.001",
+                                f"composed:={composed}"],
+                               lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT, env)
+    assert reached and manip_states(lines)[:4] == SEQUENCE, "\n".join(lines[-60:])
