@@ -57,7 +57,7 @@ def launch_agents(src: Path) -> list[tuple[str, str, list[tuple[str, str, str, s
     tree = ast.parse((src / "pick_and_place_bringup" / "launch" / "system.launch.py").read_text())
     value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
                  and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
-    return ast.literal_eval(value)  # type: ignore[no-any-return]
+    return ast.literal_eval(value)
 
 
 def snake(name: str) -> str:

@@ -245,7 +245,7 @@ def _message(model: EarlModel, key: str, names: dict[str, str], target: MsgTarge
                                          frozenset(), "_VALUE", f"{key}.{lit}", datatype.location),
                       "value": index, "comment": _comment(lit), "trace": key}
                      for index, lit in enumerate(datatype.literals)]
-        fields = [{"type": target.enumeration, "name": "value",
+        fields: list[Data] = [{"type": target.enumeration, "name": "value",
                    "comment": f"one of the constants above; a field typed by {name} is a plain "
                               f"{target.enumeration} holding one of them"}]
         return {"name": name, "key": key, "what": _comment(f"enumeration {key}"), "trace": key,

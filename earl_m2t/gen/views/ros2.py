@@ -72,7 +72,7 @@ class Ros2View:
     packages: list[Data]  # one per agent
     components: list[Data]  # one per subsystem definition
     convert: Data
-    messages: list[Data]  # the msg view's messages in ROS 2 syntax  # conversions between the C++ dataTypes and the messages
+    messages: list[Data]  # the msg view's messages in ROS 2 syntax
 
 
 def message_type(ros1: str) -> tuple[str, str]:
