@@ -2,7 +2,8 @@
 same on every run, whose launch file remaps exactly the model's links with the QoS of each
 receive mode; against a real ROS 2 Jazzy (tests/support/ros2.py) the messages pass rosidl's own
 parser, `colcon build` builds the workspace, and `ros2 launch` runs the model, composed and as
-separate processes: manip/a.cs goes idle -> jointMove -> idle -> emergencyStop."""
+separate processes, its managed nodes configured then activated by the generated manager:
+manip/a.cs goes idle -> jointMove -> idle -> emergencyStop."""
 
 from __future__ import annotations
 
@@ -224,3 +225,5 @@ def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(
                                 f"composed:={composed}"],
                                lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT, env)
     assert reached and manip_states(lines)[:4] == SEQUENCE, "\n".join(lines[-60:])
+    # the managed nodes were configured, then activated, by the bringup's manager
+    assert any(line.endswith("[earl_lifecycle_manager]: activated: 17 nodes") for line in lines), "\n".join(lines)

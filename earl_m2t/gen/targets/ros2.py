@@ -34,7 +34,7 @@ def _render(run: TargetRun) -> Rendered:
             if not content.startswith(MSG_FILE_MARKER):
                 raise GenError(f"template {template} must start with {MSG_FILE_MARKER.decode()!r}")
             put_file(generated, pattern.format(package=system["msgs"], message=message["name"]), content)
-    names = {"msgs": system["msgs"], "bringup": system["bringup"],
+    names = {"msgs": system["msgs"], "bringup": system["bringup"], "manager": system["manager"],
              "model": view.convert["ns"].removesuffix("_ros2")}
     for template, pattern in sorted(groups["msgs"].items()):
         put_file(generated, pattern.format(**names), render_template(env, template, system=system))

@@ -7,7 +7,8 @@ subsystem instance is a node ``/<agent>/<subsystem>`` whose buffers are the topi
 changes is how the code reaches them: a subsystem definition is an rclcpp component (class
 ``<package>::<Node>``, registered with ``rclcpp_components_register_node`` so that it also runs
 as the executable ``<node>_node``), messages are ``<package>::msg::<Name>`` from
-``<package>/msg/<name>.hpp``, and each topic gets the QoS of its receive mode
+``<package>/msg/<name>.hpp``, every node is a managed (lifecycle) node that the bringup's
+manager configures, then activates, and each topic gets the QoS of its receive mode
 (``[qos]`` of ``transforms/ros2/target.toml``): an input of the latest value is reliable,
 transient local, depth 1; a queued input is reliable and keeps every value. An output's
 publisher keeps every value when one of its links ends in a queued input, and is transient
@@ -54,6 +55,7 @@ class Ros2Target:
     library_suffix: str
     plugin_suffix: str
     ready_topic: str
+    manager: str
     connect_timeout: float
     qos: dict[str, Data]  # "latest" / "queue" -> reliability, durability, history, depth
 
@@ -63,6 +65,7 @@ class Ros2Target:
         return cls(library_suffix=str(spec.get("component_library_suffix", "_components")),
                    plugin_suffix=str(spec.get("plugin_suffix", "")),
                    ready_topic=str(spec.get("ready_topic", "/earl/ready")),
+                   manager=str(spec.get("manager", "earl_lifecycle_manager")),
                    connect_timeout=float(spec.get("node", {}).get("connect_timeout", 10.0)), qos=qos)
 
 
@@ -125,7 +128,7 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
         packages.append({**package, "library": package["name"] + target.library_suffix,
                          "components": [c for c in components if c["package"] == package["name"]],
                          "instances": instances})
-    system = {**ros.system, "agents": packages, "ready_topic": target.ready_topic,
+    system = {**ros.system, "agents": packages, "ready_topic": target.ready_topic, "manager": target.manager,
               "connect_timeout": target.connect_timeout}
     structs = []
     for struct in ros.convert["structs"]:
