@@ -284,7 +284,7 @@ def test_names_at_the_length_limit_generate_on_every_target(tmp_path: Path) -> N
     model.write_text(text, encoding="utf-8")
     checked = earl("check", "--select", "D", str(model))
     assert checked.returncode == 0, checked.stdout
-    for target in ("cpp", "msg", "ros", "orocos", "markdown"):
+    for target in ("cpp", "msg", "ros", "ros2", "orocos", "markdown"):
         out = tmp_path / target
         result = earl("gen", str(model), "--force", "--target", target, "-o", str(out))
         assert result.returncode == 0, result.stderr
