@@ -135,6 +135,16 @@ def test_check_then_gen_fails_when_a_target_refuses_a_model_check_passed() -> No
     assert failure is not None and failure.kind == properties.CHECK_GEN and "orocos" in failure.message
 
 
+def test_a_target_may_refuse_configurations_only_when_it_declares_it() -> None:
+    refusal = ("earl-m2t: gen: --target ros2 does not switch configurations yet (the model has useA, useB); "
+               "--target cpp runs a variable structure")
+    refused = Run(("gen", "--target", "ros2", "m.uml"), 1, refusal)
+    assert properties.check_then_gen([refused], frozenset({"ros2"})) is None
+    assert properties.check_then_gen([refused]) is not None  # a target that does not declare it
+    other = Run(("gen", "--target", "ros2", "m.uml"), 1, "earl-m2t: gen: 1 name(s) cannot become ROS names")
+    assert properties.check_then_gen([other], frozenset({"ros2"})) is not None  # any other refusal
+
+
 def test_the_memory_bound_fails_over_1_gib_for_an_input_under_10_mb() -> None:
     assert properties.memory(900 << 10, 5000) is None
     failure = properties.memory(1200 << 10, 5000)

@@ -25,8 +25,8 @@ from pathlib import Path
 import pytest
 
 from earl_m2t.api import load
-from earl_m2t.model.elements import Activation
 from earl_m2t.gen import generate
+from earl_m2t.model.elements import Activation
 
 ROOT = Path(__file__).resolve().parents[1]
 RUNTIME = ROOT / "transforms" / "cpp" / "runtime"

@@ -81,11 +81,19 @@ def round_trip(diff: Run) -> Failure | None:
     return Failure(ROUND_TRIP, f"diff of the source and what convert wrote: exit {diff.code}: {_line(diff)}")
 
 
-def check_then_gen(gens: list[Run]) -> Failure | None:
-    """The gen runs of a model that ``check`` passed: each must exit 0."""
+# What a target that declares ``variable_structure = false`` in transforms/targets.toml says when
+# it refuses a model with configurations: a documented limit of that target, not a miss of check
+REFUSES_CONFIGURATIONS = "does not switch configurations yet"
+
+
+def check_then_gen(gens: list[Run], static_only: frozenset[str] = frozenset()) -> Failure | None:
+    """The gen runs of a model that ``check`` passed: each must exit 0, but a target of
+    ``static_only`` may refuse a model with configurations (its declared limit)."""
     for run in gens:
         if run.code != 0:
             target = run.argv[run.argv.index("--target") + 1] if "--target" in run.argv else "?"
+            if target in static_only and run.code == 1 and REFUSES_CONFIGURATIONS in run.output:
+                continue
             return Failure(CHECK_GEN, f"check exits 0, gen --target {target} exits {run.code}: {_line(run)}")
     return None
 

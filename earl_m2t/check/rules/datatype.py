@@ -90,15 +90,9 @@ def _message_problems(model: EarlModel, rule_code: str) -> Iterator[NameProblem]
     """The names the ROS messages (``gen --target msg``, which ``ros`` and ``orocos`` include)
     refuse, as their view finds them: the model's name, reserved message and field names,
     enumeration literals, names that collide."""
-    from earl_m2t.gen.errors import GenError
-    from earl_m2t.gen.targets.msg import msg_settings
-    from earl_m2t.gen.views.msg import name_problems
+    from earl_m2t.gen.views.msg import refused_names  # docs/layers.toml: the one upward import
 
-    try:
-        settings = msg_settings()
-    except GenError:  # the installation lacks the target: gen says so
-        return
-    yield from (problem for problem in name_problems(model, settings) if problem.rule == rule_code)
+    yield from (problem for problem in refused_names(model) if problem.rule == rule_code)
 
 
 @rule("D003")

@@ -171,6 +171,19 @@ def name_problems(model: EarlModel, target: MsgTarget) -> list[NameProblem]:
     return problems
 
 
+def refused_names(model: EarlModel) -> list[NameProblem]:
+    """:func:`name_problems` under the settings of ``transforms/msg/target.toml``, as ``gen
+    --target msg`` reads them; [] when the installation lacks the target (gen says so). What
+    rules D003 and D004 of ``check`` ask, so that the two cannot disagree."""
+    from earl_m2t.gen.engine import load_target
+
+    try:
+        settings = MsgTarget.from_spec(load_target("msg"))
+    except GenError:
+        return []
+    return name_problems(model, settings)
+
+
 def model_name(model: EarlModel) -> str:
     """The name the package is named after: the model's, else its System's."""
     system = model.system
