@@ -143,8 +143,7 @@ class _SubsystemView:
             port = ports[buf.template]
             cpp = f"data_.{port['member']}" + (f"[{buf.index - 1}]" if buf.index else "")
             self.storage[buf.name] = Storage(cpp, buf.datatype, port["kind"])
-        inputs = [port for port in ports.values() if port["kind"] == "ib"]
-        for index, port in enumerate(inputs):
+        for index, port in enumerate(p for p in ports.values() if p["kind"] == "ib"):
             port["wake_index"] = index  # earl::Wake::inputBit(wake_index)
         for port in ports.values():
             port["count_name"] = f"{port['member']}_count"
