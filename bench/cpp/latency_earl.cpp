@@ -30,16 +30,7 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(reader.steps()));
     return 0;
   }
-  while (reader.taken.load() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));  // first iteration
-  latency::Pauses pauses;
-  for (long i = 0; i < options.samples; ++i) {
-    const std::uint64_t before = reader.taken.load(std::memory_order_acquire);
-    const std::int64_t t = latency::nowNs();
-    reader.written.store(t, std::memory_order_release);
-    link.write(t);
-    while (reader.taken.load(std::memory_order_acquire) == before) std::this_thread::sleep_for(std::chrono::microseconds(20));
-    std::this_thread::sleep_for(pauses.next());
-  }
+  latency::handOff(reader, options.samples, [&link](std::int64_t t) { link.write(t); });
   runner.stop();
   latency::report(EARL_WAKE_POLL ? "earl polling 100 us" : "earl wake word", reader.samples, reader.empty,
                   "iterations_without_data");

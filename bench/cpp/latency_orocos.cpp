@@ -111,16 +111,7 @@ int ORO_main(int argc, char** argv) {
                 static_cast<unsigned long long>(reader.steps()));
     return 0;
   }
-  while (reader.taken.load() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));  // first iteration
-  latency::Pauses pauses;
-  for (long i = 0; i < options.samples; ++i) {
-    const std::uint64_t before = reader.taken.load(std::memory_order_acquire);
-    const std::int64_t t = latency::nowNs();
-    reader.written.store(t, std::memory_order_release);
-    out.write(t);
-    while (reader.taken.load(std::memory_order_acquire) == before) std::this_thread::sleep_for(std::chrono::microseconds(20));
-    std::this_thread::sleep_for(pauses.next());
-  }
+  latency::handOff(reader, options.samples, [&out](std::int64_t t) { out.write(t); });
   master.stop();
   latency::report(EARL_OROCOS_POLL ? "orocos polling 0.2 ms" : "orocos event port", reader.samples, reader.empty,
                   "iterations_without_data");

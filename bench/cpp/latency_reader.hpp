@@ -4,6 +4,8 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <cstdint>
 #include <vector>
 
@@ -50,5 +52,21 @@ class Reader final : public earl::Subsystem<Reader> {
     return t;
   }
 };
+
+/// The writer's side of the bench: ``samples`` hand-offs, each ``write(now)`` into the reader's
+/// input, then waiting until the reader took it and pausing (Pauses).
+template <class Write>
+void handOff(Reader& reader, long samples, Write&& write) {
+  while (reader.taken.load() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));  // first iteration
+  Pauses pauses;
+  for (long i = 0; i < samples; ++i) {
+    const std::uint64_t before = reader.taken.load(std::memory_order_acquire);
+    const std::int64_t t = nowNs();
+    reader.written.store(t, std::memory_order_release);
+    write(t);
+    while (reader.taken.load(std::memory_order_acquire) == before) std::this_thread::sleep_for(std::chrono::microseconds(20));
+    std::this_thread::sleep_for(pauses.next());
+  }
+}
 
 }  // namespace latency
