@@ -1,4 +1,5 @@
-"""Fixtures shared by the whole suite: the reference sample and the script that writes it.
+"""Fixtures shared by the whole suite: the reference sample and the script that writes it; every
+compile of the suite goes through ccache when it is installed (tests/support/compiler_cache.py).
 
 The checkout is importable (``tests.support``) through pyproject's ``pythonpath``: no test
 module changes ``sys.path``."""
@@ -6,12 +7,18 @@ module changes ``sys.path``."""
 from __future__ import annotations
 
 import importlib.util
+import os
 from pathlib import Path
 from types import ModuleType
 
 import pytest
 
+from tests.support import compiler_cache
 from tests.support.paths import ROOT, SAMPLE
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    compiler_cache.enable(os.environ)
 
 
 @pytest.fixture(scope="session")

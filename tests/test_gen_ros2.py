@@ -224,7 +224,10 @@ def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(
     lines, reached = run_until(["ros2", "launch", "pick_and_place_bringup", "system.launch.py", f"period:={period}",
                                 f"composed:={composed}"],
                                lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT, env)
-    notable = [line for line in lines if re.search(r"a\.cs: |WARN|ERROR|died|manager", line)]
-    assert reached and manip_states(lines)[:4] == SEQUENCE, "\n".join(notable[:40] + ["..."] + lines[-30:])
+    # on a failure: what the nodes said of manip/a.cs, and everything a process that died wrote
+    died = {m.group(1) for m in (re.search(r"\[ERROR\] \[([\w-]+)\]: process has died", line) for line in lines) if m}
+    notable = [line for line in lines if re.search(r"a\.cs: |WARN|ERROR|died|manager", line)
+               or any(line.startswith(f"[{process}] ") for process in died)]
+    assert reached and manip_states(lines)[:4] == SEQUENCE, "\n".join(notable[:80] + ["..."] + lines[-30:])
     # the managed nodes were configured, then activated, by the bringup's manager
     assert any(line.endswith("[earl_lifecycle_manager]: activated: 17 nodes") for line in lines), "\n".join(lines)

@@ -17,11 +17,13 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import multiprocessing
 import os
 import shutil
 import sys
 import tempfile
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -35,7 +37,7 @@ ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = ROOT / "tests" / "golden" / "outputs.json"
 MODEL_SUFFIXES = {".uml", ".xmi", ".xml", ".mdzip", ".sysml"}
 FOLDERS = ("samples", "tests/fixtures", "tests/fuzz/regressions")
-GEN_TARGETS = ("cpp", "msg", "ros", "orocos", "diagrams", "markdown")
+GEN_TARGETS = ("cpp", "msg", "ros", "ros2", "orocos", "diagrams", "markdown")
 SAMPLE = "samples/pick_and_place/pick_and_place.uml"
 GENERATED = "bench/generate.py --agents 5 --subsystems 2 --behaviours 5"
 
@@ -151,18 +153,23 @@ def normalised(outputs: Outputs, scratch: Path) -> Outputs:
     return {name: content.replace(text, b"SCRATCH") for name, content in outputs.items()}
 
 
+def _normalised_outputs_of(model_file: Path, out: Path, png: bool, scratch: Path) -> Outputs:
+    return normalised(outputs_of(model_file, out, png), scratch)
+
+
 def all_outputs(scratch: Path) -> dict[str, Outputs]:
     """Every output of every model; run in ``scratch`` (the working folder), so that messages
-    name the models by the same relative paths, short enough not to be shortened, everywhere."""
+    name the models by the same relative paths, short enough not to be shortened, everywhere.
+    The models are independent: one worker process per CPU (forked, so in ``scratch`` too)."""
     assert Path.cwd() == scratch
     copy_sources(scratch)
     source = Path("src")
-    result: dict[str, Outputs] = {}
     models = [(label, source / label) for label in model_labels()] + [(GENERATED, generated_model(source))]
-    for number, (label, path) in enumerate(models):
-        out = Path("out") / str(number)
-        result[label] = normalised(outputs_of(path, out, png=label == SAMPLE), scratch)
-    return result
+    context = multiprocessing.get_context("fork")
+    with ProcessPoolExecutor(max_workers=os.cpu_count() or 1, mp_context=context) as pool:
+        futures = {label: pool.submit(_normalised_outputs_of, path, Path("out") / str(number), label == SAMPLE, scratch)
+                   for number, (label, path) in enumerate(models)}
+        return {label: future.result() for label, future in futures.items()}
 
 
 def digests(outputs: dict[str, Outputs]) -> dict[str, dict[str, str]]:
