@@ -231,3 +231,70 @@ def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(
     assert reached and manip_states(lines)[:4] == SEQUENCE, "\n".join(notable[:80] + ["..."] + lines[-30:])
     # the managed nodes were configured, then activated, by the bringup's manager
     assert any(line.endswith("[earl_lifecycle_manager]: activated: 17 nodes") for line in lines), "\n".join(lines)
+
+
+def test_a_parameter_outside_its_declared_range_is_refused(built: Path, jazzy: ros2.Installation) -> None:
+    """Every node declares its parameters with ranges (transforms/ros2/target.toml): rclcpp refuses
+    a negative period, and the node does not start; a value inside runs."""
+    node = built / "install" / "pick_and_place_manip_a" / "lib" / "pick_and_place_manip_a" / "cs_node"
+    env = jazzy.environment(built, domain_id=random.randint(101, 200))
+    for parameter, kind in (("period:=-1.0", "floating point"), ("expected_nodes:=-3", "integer")):
+        result = subprocess.run([str(node), "--ros-args", "-p", parameter], capture_output=True, text=True, env=env,
+                                timeout=60)
+        assert result.returncode != 0
+        assert f"doesn't comply with {kind} range" in result.stdout + result.stderr, result.stderr
+    with pytest.raises(subprocess.TimeoutExpired):  # inside its range: it starts and keeps running
+        subprocess.run([str(node), "--ros-args", "-p", "period:=0.5"], capture_output=True, env=env, timeout=3)
+
+
+GRAPH = ROOT / "tests" / "support" / "ros2_graph.py"
+# what discovery tells of a remote endpoint's QoS: reliability and durability (its history and
+# depth stay local, "unknown" in the graph; test_qos_follows_the_receive_modes reads them)
+LATEST_QOS = {"reliability": "reliable", "durability": "transient_local"}
+QUEUE_QOS = {"reliability": "reliable", "durability": "volatile"}
+
+
+def test_the_running_graph_subscribes_each_input_to_its_link_with_the_qos_of_its_receive_mode(
+        built: Path, jazzy: ros2.Installation, tmp_path: Path) -> None:
+    """The graph DDS reports while the composed system runs: each link's output topic has the
+    linked input's node among its subscriptions, with the QoS of the input's receive mode, and
+    its subscriber matched the output's publisher. A subscription of our own that asks a queued
+    topic for the last value (transient local, which the publisher does not offer) is refused
+    as incompatible: the check this test makes can fail."""
+    model = load(str(SAMPLE)).model
+    nodes = {parameters["path"]: f"/{namespace}/{name}" for namespace, _, entries in launch_agents(built / "src")
+             for _, _, _, name, parameters, _ in entries}
+    inputs = {b.path: b for sub in model.subsystems for b in sub.inputs}
+    expected: dict[str, list[tuple[str, dict[str, object]]]] = {}
+    for link in model.links:
+        receive = inputs[link.target].receive
+        expected.setdefault(topic(link.source), []).append(
+            (nodes[link.target.rpartition(".")[0]], QUEUE_QOS if receive == "queue" else LATEST_QOS))
+    queued_topic = next(t for t, subs in expected.items() if subs[0][1] is QUEUE_QOS)
+    request = {"topics": {t: [len(subs), 1] for t, subs in expected.items()}, "timeout": 30.0,
+               "probe": {"topic": queued_topic, "reliability": "reliable", "durability": "transient_local"}}
+    env = jazzy.environment(built, domain_id=random.randint(101, 200))
+    env.update(ROS_LOG_DIR=str(tmp_path / "log"), ROS_HOME=str(tmp_path / "home"), PICK_AND_PLACE_QUIET="1")
+    probed: dict[str, object] = {}
+
+    def probe_once_active(lines: list[str]) -> bool:
+        if not lines or not lines[-1].endswith("[earl_lifecycle_manager]: activated: 17 nodes"):
+            return False
+        result = subprocess.run([str(jazzy.python), str(GRAPH)], input=json.dumps(request), capture_output=True,
+                                text=True, env=env, timeout=120)
+        probed.update(json.loads(result.stdout) if result.returncode == 0 else {"error": result.stderr[-3000:]})
+        return True
+
+    lines, reached = run_until(["ros2", "launch", "pick_and_place_bringup", "system.launch.py", "period:=0.01"],
+                               probe_once_active, LAUNCH_TIMEOUT, env)
+    assert reached and "error" not in probed, probed.get("error", "\n".join(lines[-30:]))
+    graph = probed["graph"]
+    assert isinstance(graph, dict)
+    for name, subscribers in expected.items():
+        found = {s["node"]: s for s in graph[name]["subscriptions"]}
+        for node, qos in subscribers:
+            assert node in found, f"{name}: no subscription of {node} ({sorted(found)})"
+            assert {k: found[node][k] for k in qos} == qos, f"{name} as {node} subscribes it: {found[node]}"
+        # one publisher, the output's node, whose QoS serves every subscriber
+        assert len(graph[name]["publishers"]) == 1, graph[name]
+    assert probed["probe"] == {"matched": 0, "incompatible": ["RMW_QOS_POLICY_DURABILITY"]}, probed["probe"]

@@ -58,6 +58,7 @@ class Ros2Target:
     manager: str
     connect_timeout: float
     qos: dict[str, Data]  # "latest" / "queue" -> reliability, durability, history, depth
+    parameters: dict[str, Data]  # a declared parameter -> its min, max and description
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> Ros2Target:
@@ -66,7 +67,8 @@ class Ros2Target:
                    plugin_suffix=str(spec.get("plugin_suffix", "")),
                    ready_topic=str(spec.get("ready_topic", "/earl/ready")),
                    manager=str(spec.get("manager", "earl_lifecycle_manager")),
-                   connect_timeout=float(spec.get("node", {}).get("connect_timeout", 10.0)), qos=qos)
+                   connect_timeout=float(spec.get("node", {}).get("connect_timeout", 10.0)), qos=qos,
+                   parameters={name: dict(value) for name, value in sorted(spec["parameters"].items())})
 
 
 @dataclass
@@ -189,5 +191,6 @@ def _component(node: Data, block: str, target: Ros2Target,
             "headers": sorted({e["header"] for e in inputs + outputs}),
             "convert": node["convert"].replace("/ros/convert.hpp", "/ros2/convert.hpp"),
             "convert_ns": node["convert_ns"].removesuffix("_ros") + "_ros2",
-            "ready_topic": target.ready_topic, "connect_timeout": target.connect_timeout}
+            "ready_topic": target.ready_topic, "connect_timeout": target.connect_timeout,
+            "parameters": target.parameters}
 
