@@ -145,6 +145,21 @@ def test_names_that_collide_as_ros_names_are_refused_or_forced_apart(tmp_path: P
     assert remaps["/task_a/cs/manipulator_state_ib_2"] == "/grip_a/cs/gripper_status_ob"
 
 
+
+def test_agents_named_after_the_generated_packages_get_packages_of_their_own(tmp_path: Path) -> None:
+    """Agents named ``msgs`` and ``bringup`` would take the names of the message and bringup
+    packages: check passes such a model, so the ros and ros2 targets generate it, the agents'
+    packages with the suffix ``_agent``."""
+    text = SAMPLE.with_suffix(".sysml").read_text(encoding="utf-8")
+    model = tmp_path / "model.sysml"
+    model.write_text(text.replace("'task/a'", "'msgs'").replace("'grip/a'", "'bringup'"), encoding="utf-8")
+    run(sys.executable, "-m", "earl_m2t", "check", model)
+    for target in ("ros", "ros2"):
+        run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", target, "-o", tmp_path / target)
+        packages = sorted(p.parent.name for p in (tmp_path / target).glob("*/package.xml"))
+        assert packages == ["pick_and_place_bringup", "pick_and_place_bringup_agent", "pick_and_place_manip_a",
+                            "pick_and_place_msgs", "pick_and_place_msgs_agent"], (target, packages)
+
 @needs_catkin
 def test_catkin_make_builds_the_messages_and_one_node_per_subsystem_definition(built: Path) -> None:
     nodes = sorted(p.relative_to(built / "devel" / "lib").as_posix()

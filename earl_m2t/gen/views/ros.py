@@ -45,6 +45,7 @@ class RosTarget:
     period: float  # seconds, the default period of every node
     queue: int  # subscriber and publisher queue size
     bringup_suffix: str
+    agent_suffix: str
     std_msgs: dict[str, str]  # ROS primitive type -> std_msgs message
     switch_messages: tuple[str, ...] = ()  # the switch's messages (a model with configurations)
     switch_queue: int = 1000  # queue size of the switch's control topics
@@ -54,6 +55,7 @@ class RosTarget:
         node = spec.get("node", {})
         return cls(period=float(node.get("period", 0.01)), queue=int(node.get("queue", 10)),
                    bringup_suffix=str(spec.get("bringup_suffix", "_bringup")),
+                   agent_suffix=str(spec.get("agent_suffix", "_agent")),
                    std_msgs=dict(spec["std_msgs"]),
                    switch_messages=tuple(spec.get("switch", {}).get("messages", ())),
                    switch_queue=int(spec.get("switch", {}).get("queue", 1000)))
@@ -134,7 +136,7 @@ class _Builder:
 
     def build(self) -> RosView:
         packages = self._packages()
-        bringup = self._bringup(packages)
+        bringup = self._bringup_name()
         nodes = self._nodes()
         self._instances()
         links = self._links()
@@ -162,15 +164,21 @@ class _Builder:
     # ------------------------------------------------------------------ packages
 
     def _packages(self) -> list[Data]:
-        """One package per agent, named after the model and the agent's C++ namespace."""
+        """One package per agent, named after the model and the agent's C++ namespace. The names
+        of the messages' and the bringup's packages are the model's: an agent whose name would
+        take one (an agent named ``msgs``) gets the suffix ``_agent``, so that no model a check
+        passes is refused here."""
         packages: list[Data] = []
-        taken = {self.msgs.package}
+        generated = {self.msgs.package, self._bringup_name()}
+        taken = set(generated)
         namespaces = _Scope("namespace", self.strict)
         for agent_view in self.cpp.agents:
             path = agent_view["path"]
             name = f"{self.stem}_{field_name(agent_view['ns'])}"
             if not PACKAGE_NAME.match(name):
                 raise GenError(f"D003 agent {path}: the package name {name} is not a ROS name")
+            if name in generated:
+                name = self._free(f"{name}{self.target.agent_suffix}", taken)
             if name in taken:
                 raise GenError(f"D004 agent {path}: the package name {name} is taken")
             taken.add(name)
@@ -181,10 +189,19 @@ class _Builder:
             self.agent_of[path] = package
         return packages
 
-    def _bringup(self, packages: list[Data]) -> str:
+    @staticmethod
+    def _free(name: str, taken: set[str]) -> str:
+        """``name``, else the first of ``name2``, ``name3``, … not taken."""
+        n, free = 1, name
+        while free in taken:
+            n += 1
+            free = f"{name}{n}"
+        return free
+
+    def _bringup_name(self) -> str:
         """The name of the package of the system's launch file."""
         name = self.stem + self.target.bringup_suffix
-        if name == self.msgs.package or any(p["name"] == name for p in packages):
+        if name == self.msgs.package:
             raise GenError(f"D004 the package name {name} is taken")
         return name
 
