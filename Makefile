@@ -32,7 +32,7 @@ demo: bytecode
 # `make campaign` runs the campaigns alone, CAMPAIGN_RUNS times each (tests/support/campaign.py).
 SUITE_RUNS ?= 10
 CAMPAIGN_RUNS ?= 50
-CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_harmoniser_runs.py \
+CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_harmoniser_runs.py tests/test_gen_ros2.py \
 	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py
 test: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
