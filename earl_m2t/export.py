@@ -121,6 +121,7 @@ def _agent(agent: Agent) -> dict[str, Any]:
         "type": agent.computed_type,
         "declared_type": agent.declared_type or None,
         **_variability(agent),
+        **({"host": agent.host} if agent.host else {}),
         "recognised_by": agent.recognised_by,
         **_where(agent.location),
         "subsystems": [_subsystem(s) for s in agent.subsystems],

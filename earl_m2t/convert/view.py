@@ -170,6 +170,9 @@ class _View:
             definition.lines.append(f"attribute :>> declaredType = AgentType::{agent.declared_type};")
         if agent.reactivation != Reactivation.RESTART:
             definition.lines.append(f"@AgentReactivation {{ reactivation = Reactivation::{agent.reactivation}; }}")
+        if agent.host:
+            host = agent.host.replace("\\", "\\\\").replace('"', '\\"')
+            definition.lines.append(f'@AgentHost {{ host = "{host}"; }}')
         group_of = {member: group for group in agent.groups for member in group.members}
         for template, subsystems in _grouped(agent.subsystems, lambda s: group_of.get(s.path) or s.template):
             group = group_of.get(subsystems[0].path)

@@ -14,7 +14,7 @@ from earl_m2t.lift.links import AgentInstance, LinkLifter, SubsystemInstance
 from earl_m2t.lift.recognise import Recogniser, Recognition
 from earl_m2t.lift.replication import expand, instance_count, multiplicity, over_bound
 from earl_m2t.lift.tags import tag
-from earl_m2t.lift.variability import configurations, is_optional, reactivation_of
+from earl_m2t.lift.variability import configurations, host_of, is_optional, reactivation_of
 from earl_m2t.model.elements import (
     Agent,
     BasicBehaviour,
@@ -240,7 +240,7 @@ class StructureLifter:
         declared = (tags.get("declaredType") or tags.get("type") or "").strip()
         agent = Agent(name, path, self.raw.name(block), robot, tuple(i.subsystem for i in instances), tuple(links),
                       declared, "", self.raw.location(part), self.recogniser.recognise(block).route or "suffix",
-                      tuple(groups), is_optional(self.raw, part), reactivation_of(self.raw, tags))
+                      tuple(groups), is_optional(self.raw, part), reactivation_of(self.raw, tags), host_of(tags))
         return AgentInstance(agent, part, robot_part, instances)
 
     def _subsystem_group(self, block: Element,

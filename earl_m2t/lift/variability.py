@@ -59,9 +59,14 @@ def reactivation_of(raw: RawModel, tags: dict[str, str]) -> str:
     return next((known for known in REACTIVATIONS if known == written), written)
 
 
+def host_of(tags: dict[str, str]) -> str:
+    """An «Agent»'s host: the tag ``host`` as written (rule D007 checks it), "" when untagged."""
+    return tag(tags, "host") or ""
+
+
 def is_optional(raw: RawModel, part: Element) -> bool:
     """True for a part of multiplicity [0..1]: the general model may leave its agent out."""
     return multiplicity(raw, part) == (0, 1)
 
 
-__all__ = ["CONFIGURATION", "configurations", "is_optional", "reactivation_of"]
+__all__ = ["CONFIGURATION", "configurations", "host_of", "is_optional", "reactivation_of"]

@@ -313,6 +313,7 @@ class Agent:
     optional: bool = False  # its part's multiplicity is [0..1]: the general model may leave it out
     # how a switch brings it back: a Reactivation, or the tag's value as written (a rule reports it)
     reactivation: str = Reactivation.RESTART
+    host: str = ""  # the tag host: the computer its nodes run on, "" for the default host (rule D007)
 
     def of_kind(self, kind: SubsystemKind) -> tuple[Subsystem, ...]:
         return tuple(s for s in self.subsystems if s.kind == kind)

@@ -110,10 +110,13 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
 
 
 def _variability(agent: Agent) -> str:
-    """``  optional, reactivation resume``; nothing for an agent of a fixed structure."""
+    """``  optional, reactivation resume, host arm``; nothing for an agent of a fixed structure
+    on the default host."""
     parts = ["optional"] if agent.optional else []
     if agent.reactivation != Reactivation.RESTART:
         parts.append(f"reactivation {agent.reactivation}")
+    if agent.host:
+        parts.append(f"host {agent.host}")
     return f"  {', '.join(parts)}" if parts else ""
 
 

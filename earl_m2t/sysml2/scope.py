@@ -21,7 +21,8 @@ PROFILE_PACKAGE = "EARL"
 METADATA_CONCEPTS = {"Priority": "FsmTransition", "Exclusive": "Exclusion", "Memory": "InternalMemory",
                      "Receive": "InputBuffer", "Activation": "FsmState", "Group": "BufferGroup",
                      "Ltl": "LtlProperty", "Structure": "Configuration", "Reconfigure": "FsmState",
-                     "Quiescent": "FsmState", "AgentReactivation": "Agent"}
+                     "Quiescent": "FsmState", "AgentReactivation": "Agent",
+                     "AgentHost": "Agent"}
 # Metadata definitions without attributes that stand for a Boolean tag set to true
 # (``@Quiescent;`` is the tag ``quiescent`` of «FsmState»).
 METADATA_FLAGS = {"Quiescent": "quiescent"}
