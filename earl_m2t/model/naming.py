@@ -105,6 +105,16 @@ def length_problem(name: str) -> str:
     return f"its generated identifier has {length} characters, more than the {limit} every target can use in file names"
 
 
+def host_problem(host: str) -> str:
+    """Why the tag host of an «Agent» cannot name a file and a ROS node (rule D007), or "" when it can."""
+    table = _table()
+    if not re.match(table["host_pattern"], host):
+        return "a host name is letters, digits, '_' and '-'"
+    if len(host) > int(table["max_length"]):
+        return f"it has {len(host)} characters, more than {table['max_length']}"
+    return ""
+
+
 @lru_cache(maxsize=_REMEMBERED)
 def windows_reserved(name: str) -> str:
     """The Windows device name (``COM1``, ``NUL`` …) a name's files would be called, or ""."""

@@ -1009,6 +1009,13 @@ def windows_device_name(s: Sample) -> Expect:
     return Expect(s.id(datatype), "DataTypes::Aux")
 
 
+def host_with_a_space(s: Sample) -> Expect:
+    """D007: task/a's «Agent» has the tag host "cell 1", which cannot name a launch file and a ROS node."""
+    task = s.block("TaskAgent")
+    s.application("Agent", task).set("host", "cell 1")
+    return Expect(s.id(s.attribute("PickAndPlaceSystem", "task/a")), "has host 'cell 1'")
+
+
 def datatype_names_differ_in_ros_spelling(s: Sample) -> Expect:
     """D004: the dataType EncoderReading is renamed Motor_Current, next to MotorCurrent: both
     become the ROS message MotorCurrent."""
@@ -1235,6 +1242,7 @@ VARIANTS: dict[str, Mutation] = {
     "D005": name_too_long,
     "D005-thousands": name_of_thousands_of_characters,
     "D006": windows_device_name,
+    "D007": host_with_a_space,
     "R001": part_name_contradicts_block,
     "R001-block-suffix": block_suffix_contradicts_stereotype,
     "R002": duplicate_xmi_id,

@@ -12,6 +12,7 @@ from earl_m2t.model.location import Location
 from earl_m2t.model.naming import (
     collision_key,
     field_name,
+    host_problem,
     identifier_problem,
     length_problem,
     message_name,
@@ -180,3 +181,12 @@ def windows_reserved_name(model: EarlModel) -> Iterator[Finding]:
         if device:
             yield Finding(f"{shortened(path)}: the name gives files named '{device}', a device name Windows "
                           f"reserves (such files cannot be created there)", location, shortened(path))
+
+
+@rule("D007")
+def host_name_invalid(model: EarlModel) -> Iterator[Finding]:
+    for agent in model.agents:
+        problem = host_problem(agent.host) if agent.host else ""
+        if problem:
+            yield Finding(f"agent {agent.path} has host '{shortened(agent.host)}', which cannot name a file and a "
+                          f"ROS node: {problem}", agent.location, agent.path)
