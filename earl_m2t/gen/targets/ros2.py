@@ -1,7 +1,8 @@
 """The ``ros2`` target (``transforms/ros2/``): ament_cmake packages for ROS 2 Jazzy, namely the
 messages (the ``msg`` target's messages in ROS 2 syntax, through ``rosidl_generate_interfaces``), one package per
 agent (an rclcpp component per subsystem definition) and ``<model>_bringup`` (the system's
-launch file, composed or as separate processes), next to the ``cpp`` target's runtime and
+launch file, composed or as separate processes, and one per host when the model allocates
+agents to hosts), next to the ``cpp`` target's runtime and
 headers under ``earl/`` and its user files. Its view starts from the ``ros`` target's."""
 
 from __future__ import annotations
@@ -40,7 +41,11 @@ def _render(run: TargetRun) -> Rendered:
         put_file(generated, pattern.format(**names), render_template(env, template, system=system))
     for template, pattern in sorted(groups["system"].items()):
         put_file(generated, pattern.format(**names),
-                 render_template(env, template, system=system, convert=view.convert))
+                 render_template(env, template, system=system, convert=view.convert, launch=view.launch))
+    for launch in view.hosts:
+        for template, pattern in sorted(groups.get("host", {}).items()):
+            put_file(generated, pattern.format(host=launch["host"], **names),
+                     render_template(env, template, system=system, convert=view.convert, launch=launch))
     for package in view.packages:
         for template, pattern in sorted(groups["agent"].items()):
             put_file(generated, pattern.format(package=package["name"], **names),

@@ -29,10 +29,12 @@ from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.views.msg import MsgView
 from earl_m2t.gen.views.ros import RosView
 from earl_m2t.model.elements import EarlModel
+from earl_m2t.model.naming import host_problem
 
 Data = dict[str, Any]
 
 QOS_KEYS = ("reliability", "durability", "history", "depth")
+SYSTEM_LAUNCH = "system"  # system.launch.py, the launch of every agent, which no host's may replace
 
 
 def header_stem(message: str) -> str:
@@ -59,6 +61,7 @@ class Ros2Target:
     connect_timeout: float
     qos: dict[str, Data]  # "latest" / "queue" -> reliability, durability, history, depth
     parameters: dict[str, Data]  # a declared parameter -> its min, max and description
+    default_host: str = "default_host"  # the host of the agents without the tag host
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> Ros2Target:
@@ -68,7 +71,8 @@ class Ros2Target:
                    ready_topic=str(spec.get("ready_topic", "/earl/ready")),
                    manager=str(spec.get("manager", "earl_lifecycle_manager")),
                    connect_timeout=float(spec.get("node", {}).get("connect_timeout", 10.0)), qos=qos,
-                   parameters={name: dict(value) for name, value in sorted(spec["parameters"].items())})
+                   parameters={name: dict(value) for name, value in sorted(spec["parameters"].items())},
+                   default_host=str(spec.get("default_host", "default_host")))
 
 
 @dataclass
@@ -78,6 +82,8 @@ class Ros2View:
     components: list[Data]  # one per subsystem definition
     convert: Data
     messages: list[Data]  # the msg view's messages in ROS 2 syntax
+    launch: Data  # system.launch.py: every agent, the manager of all their nodes
+    hosts: list[Data]  # one launch per host (name, agents, manager_node), sorted by name; none without hosts
 
 
 def message_type(ros1: str) -> tuple[str, str]:
@@ -139,7 +145,29 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
     convert = {**ros.convert, "ns": ros.convert["ns"].removesuffix("_ros") + "_ros2", "structs": structs,
                "headers": sorted({s["header"] for s in structs})}
     return Ros2View(system=system, packages=packages, components=components, convert=convert,
-                    messages=ros2_messages(msgs))
+                    messages=ros2_messages(msgs), launch={"host": "", "agents": packages, "manager_node": target.manager},
+                    hosts=_hosts(model, packages, target))
+
+
+def _hosts(model: EarlModel, packages: list[Data], target: Ros2Target) -> list[Data]:
+    """The launch of each host the model names (the «Agent» tag host), its untagged agents on
+    the default host; none when no agent has the tag. Each starts only its agents' nodes, and
+    a lifecycle manager of its own for them."""
+    host_of = {agent.path: agent.host for agent in model.agents}
+    if not any(host_of.get(package["path"]) for package in packages):
+        return []
+    on: dict[str, list[Data]] = {}
+    for package in packages:
+        host = host_of.get(package["path"]) or target.default_host
+        problem = host_problem(host)
+        if problem:
+            raise GenError(f"D007 agent {package['path']}: host {host!r}: {problem}")
+        if host == SYSTEM_LAUNCH:
+            raise GenError(f"agent {package['path']}: the host {host} would replace {host}.launch.py, which starts "
+                           f"every agent")
+        on.setdefault(host, []).append(package)
+    return [{"host": host, "agents": on[host], "manager_node": f"{target.manager}_{host.replace('-', '_')}"}
+            for host in sorted(on)]
 
 
 def _publisher_modes(model: EarlModel,
