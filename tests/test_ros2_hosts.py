@@ -1,0 +1,266 @@
+"""The ros2 target across hosts: the sample with its agents allocated to two hosts (the «Agent»
+tag host: manip/a on ``arm``, grip/a and task/a on ``hand``) gets a launch file per host, each
+starting only its agents and a lifecycle manager of its own, while the start barrier still
+waits for the nodes of the whole system. Built with colcon, each host's launch runs in a Linux
+network namespace of its own, the namespaces joined by veth pairs on a bridge in a third one:
+DDS finds the other host's nodes over that network only, and manip/a.cs goes idle -> jointMove
+-> idle -> emergencyStop as when one launch starts everything.
+
+Network namespaces need root (CAP_NET_ADMIN): where ``ip netns add`` is refused the test fails
+with the reason, it is never skipped."""
+
+from __future__ import annotations
+
+import ast
+import os
+import random
+import re
+import secrets
+import shutil
+import subprocess
+import sys
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from tests.support import ros2
+from tests.support.load import line_buffered, run_until, stop
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml"
+USER = SAMPLE.parent / "user"
+BRINGUP = "pick_and_place_bringup"
+# the agents' part defs in the sample's SysML v2 form, and the host each gets
+HOSTS = {"ManipulatorAgent": "arm", "GripperAgent": "hand", "TaskAgent": "hand"}
+AGENTS_ON = {"arm": ["manip_a"], "hand": ["grip_a", "task_a"]}
+NODES_ON = {"arm": 13, "hand": 4}  # manip/a: cs, 6 motor controllers, 6 motors; grip/a: 3; task/a: 1
+NODES = 17
+# launch prefixes each line of a process with "[<process>] "
+STATE = re.compile(r"^(?:\[[^\]]+\] )?step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
+SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
+LAUNCH_TIMEOUT = 120.0  # s: two launches, discovery over the bridge, the barrier, then about 1 s of script
+# bytes each host must have received over its veth during a run: DDS discovery and the links
+# between manip/a and task/a cross it (a run that went through shared memory would not)
+MIN_RECEIVED = 20_000
+
+# Fast DDS, as ROS 2 Jazzy configures it, also carries data through shared memory between
+# participants of one machine, and the namespaces are one machine (one /dev/shm): this profile
+# leaves only UDPv4, so all traffic between the hosts goes over the veth network. The profile is
+# the default one of every participant (FASTDDS_DEFAULT_PROFILES_FILE).
+UDP_ONLY_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <transport_descriptors>
+    <transport_descriptor>
+      <transport_id>udp_only</transport_id>
+      <type>UDPv4</type>
+    </transport_descriptor>
+  </transport_descriptors>
+  <participant profile_name="udp_only" is_default_profile="true">
+    <rtps>
+      <userTransports>
+        <transport_id>udp_only</transport_id>
+      </userTransports>
+      <useBuiltinTransports>false</useBuiltinTransports>
+    </rtps>
+  </participant>
+</profiles>
+"""
+
+
+def with_hosts(text: str) -> str:
+    """The sample's SysML v2 text with the tag host on each agent's part def."""
+    for definition, host in HOSTS.items():
+        head = f"part def {definition} :> Agent {{\n"
+        assert text.count(head) == 1, head
+        text = text.replace(head, f'{head}            @AgentHost {{ host = "{host}"; }}\n')
+    return text
+
+
+def launch_agents(path: Path) -> list[str]:
+    """The agent namespaces of a generated launch file's AGENTS table, read without importing launch."""
+    tree = ast.parse(path.read_text())
+    value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                 and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
+    return [namespace for namespace, _, _ in ast.literal_eval(value)]
+
+
+def expected_nodes(path: Path) -> int:
+    found = re.search(r"^EXPECTED_NODES = (\d+)$", path.read_text(), re.MULTILINE)
+    assert found, path
+    return int(found.group(1))
+
+
+def manip_states(lines: list[str]) -> list[str]:
+    """The states manip/a.cs entered, in order, from the launch's output."""
+    return [m.group(1) or m.group(3) for m in map(STATE.match, (line.strip() for line in lines)) if m]
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A colcon workspace whose src/ is gen's output for the sample with hosts (its user code
+    copied into src/user/ first)."""
+    ws = tmp_path_factory.mktemp("ros2_hosts_ws")
+    model = ws / "pick_and_place.sysml"
+    model.write_text(with_hosts(SAMPLE.read_text(encoding="utf-8")), encoding="utf-8")
+    shutil.copytree(USER, ws / "src" / "user")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
+                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return ws
+
+
+def test_a_launch_file_per_host_starts_its_agents_and_waits_for_the_whole_system(workspace: Path) -> None:
+    launch = workspace / "src" / BRINGUP / "launch"
+    assert sorted(p.name for p in launch.iterdir()) == ["arm.launch.py", "hand.launch.py", "system.launch.py"]
+    assert launch_agents(launch / "system.launch.py") == ["manip_a", "grip_a", "task_a"]
+    for host, agents in AGENTS_ON.items():
+        text = (launch / f"{host}.launch.py").read_text()
+        assert launch_agents(launch / f"{host}.launch.py") == agents
+        assert expected_nodes(launch / f"{host}.launch.py") == NODES
+        assert f'name="earl_lifecycle_manager_{host}"' in text
+    assert expected_nodes(launch / "system.launch.py") == NODES
+    assert 'name="earl_lifecycle_manager"' in (launch / "system.launch.py").read_text()
+
+
+def test_the_sample_without_hosts_has_only_the_system_launch(tmp_path: Path) -> None:
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(SAMPLE), "--target", "ros2", "-o",
+                             str(tmp_path)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert sorted(p.name for p in (tmp_path / BRINGUP / "launch").iterdir()) == ["system.launch.py"]
+
+
+# ---------------------------------------------------------------- against a real ROS 2 Jazzy
+
+
+@pytest.fixture(scope="module")
+def jazzy() -> ros2.Installation:
+    """The ROS 2 prefix of tests/support/ros2.py (as in tests/test_gen_ros2.py)."""
+    try:
+        return ros2.installation()
+    except ros2.Ros2BuildFailed as failure:
+        pytest.fail(str(failure), pytrace=False)
+    except ros2.Ros2Unavailable as reason:
+        if ros2.VENDOR.is_dir() or os.environ.get("ROS2_JAZZY_PREFIX"):
+            pytest.fail(str(reason), pytrace=False)
+        pytest.skip(str(reason))
+
+
+@pytest.fixture(scope="module")
+def built(workspace: Path, jazzy: ros2.Installation) -> Path:
+    result = subprocess.run(jazzy.colcon_build_command(), cwd=workspace, capture_output=True, text=True,
+                            env=jazzy.environment(), timeout=1800)
+    assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+    return workspace
+
+
+def ip(*args: str) -> None:
+    result = subprocess.run(["ip", *args], capture_output=True, text=True, timeout=30)
+    if result.returncode != 0:
+        raise RuntimeError(f"ip {' '.join(args)}: {result.stderr.strip() or result.returncode}")
+
+
+@dataclass(frozen=True)
+class Host:
+    name: str  # the model's host
+    netns: str
+    device: str  # its end of the veth pair, inside netns
+    address: str
+
+
+@dataclass(frozen=True)
+class Network:
+    bridge_netns: str
+    hosts: dict[str, Host]
+
+
+@pytest.fixture
+def network() -> Iterator[Network]:
+    """A network namespace per host, each with lo up and a veth to a bridge in a namespace of
+    its own, on a 10.213.N.0/24 of this run (multicast routed to the veth, for DDS discovery).
+    Names unique per run; everything is deleted at the end, whatever happened."""
+    if shutil.which("ip") is None:
+        pytest.fail("no ip command (iproute2): the hosts run in network namespaces", pytrace=False)
+    token = secrets.token_hex(3)
+    subnet = random.randint(1, 254)
+    bridge_netns = f"earl-{token}-bridge"
+    hosts = {name: Host(name, f"earl-{token}-{name}", f"e{token}{k}", f"10.213.{subnet}.{k + 1}/24")
+             for k, name in enumerate(sorted(AGENTS_ON))}
+    made: list[str] = []
+    try:
+        try:
+            ip("netns", "add", bridge_netns)
+        except RuntimeError as refused:
+            pytest.fail(f"cannot create a network namespace (the test needs root): {refused}", pytrace=False)
+        made.append(bridge_netns)
+        ip("-n", bridge_netns, "link", "add", "br0", "type", "bridge", "mcast_snooping", "0")
+        ip("-n", bridge_netns, "link", "set", "br0", "up")
+        for host in hosts.values():
+            ip("netns", "add", host.netns)
+            made.append(host.netns)
+            peer = host.device + "b"
+            ip("link", "add", host.device, "netns", host.netns, "type", "veth", "peer", "name", peer,
+               "netns", bridge_netns)
+            ip("-n", bridge_netns, "link", "set", peer, "master", "br0")
+            ip("-n", bridge_netns, "link", "set", peer, "up")
+            ip("-n", host.netns, "link", "set", "lo", "up")
+            ip("-n", host.netns, "addr", "add", host.address, "dev", host.device)
+            ip("-n", host.netns, "link", "set", host.device, "up", "multicast", "on")
+            ip("-n", host.netns, "route", "add", "224.0.0.0/4", "dev", host.device)
+        yield Network(bridge_netns, hosts)
+    finally:
+        for netns in reversed(made):  # deleting a namespace deletes its veth ends and bridge
+            subprocess.run(["ip", "netns", "delete", netns], capture_output=True, timeout=30)
+
+
+def received_bytes(host: Host) -> int:
+    result = subprocess.run(["ip", "netns", "exec", host.netns, "cat", f"/sys/class/net/{host.device}/statistics/rx_bytes"],
+                            capture_output=True, text=True, timeout=30)
+    assert result.returncode == 0, result.stderr
+    return int(result.stdout)
+
+
+def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_model(
+        built: Path, jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
+    """hand's launch in one namespace, arm's in another, on one ROS domain, composed at 1 ms
+    periods; it stops as soon as manip/a.cs (on arm) reached emergencyStop."""
+    profile = tmp_path / "udp_only.xml"
+    profile.write_text(UDP_ONLY_PROFILE, encoding="utf-8")
+    env = jazzy.environment(built, domain_id=random.randint(1, 100))
+    # the prefix's env.sh keeps discovery on the machine's loopback; here it crosses the veths
+    env.update(ROS_AUTOMATIC_DISCOVERY_RANGE="SUBNET", FASTDDS_DEFAULT_PROFILES_FILE=str(profile),
+               FASTRTPS_DEFAULT_PROFILES_FILE=str(profile), PICK_AND_PLACE_QUIET="1")
+    env.pop("ROS_LOCALHOST_ONLY", None)
+    env.pop("ROS_STATIC_PEERS", None)
+
+    def host_env(host: Host) -> dict[str, str]:
+        return {**env, "ROS_LOG_DIR": str(tmp_path / host.name / "log"), "ROS_HOME": str(tmp_path / host.name)}
+
+    def launch(host: Host) -> list[str]:
+        return ["ip", "netns", "exec", host.netns, *line_buffered(
+            ["ros2", "launch", BRINGUP, f"{host.name}.launch.py", "period:=0.001", "composed:=true"])]
+
+    arm, hand = network.hosts["arm"], network.hosts["hand"]
+    hand_log = tmp_path / "hand.out"
+    with hand_log.open("w") as out:
+        hand_run = subprocess.Popen(launch(hand), stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                    env=host_env(hand), text=True, start_new_session=True)
+    try:
+        lines, reached = run_until(launch(arm), lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT,
+                                   host_env(arm))
+    finally:
+        stop(hand_run)
+    hand_lines = hand_log.read_text(errors="replace").splitlines()
+    notable = [f"arm: {line}" for line in lines if re.search(r"a\.cs: |WARN|ERROR|died|manager", line)]
+    notable += [f"hand: {line}" for line in hand_lines if re.search(r"WARN|ERROR|died|manager", line)]
+    assert reached and manip_states(lines)[:4] == SEQUENCE, "\n".join(
+        notable[:80] + ["...", "arm:"] + lines[-20:] + ["hand:"] + hand_lines[-20:])
+    # each host's own manager configured, then activated, only that host's nodes
+    assert any(line.endswith(f"[earl_lifecycle_manager_arm]: activated: {NODES_ON['arm']} nodes")
+               for line in lines), "\n".join(lines)
+    assert any(line.endswith(f"[earl_lifecycle_manager_hand]: activated: {NODES_ON['hand']} nodes")
+               for line in hand_lines), "\n".join(hand_lines)
+    # the hosts talked over the veth network
+    for host in (arm, hand):
+        assert received_bytes(host) >= MIN_RECEIVED, f"{host.name} received {received_bytes(host)} bytes on its veth"
