@@ -360,7 +360,7 @@ def test_every_concept_has_its_stereotype(name: str, generated: dict[str, tuple[
 def test_the_profile_has_the_tags_the_reader_knows(generated: dict[str, tuple[str, bytes]]) -> None:
     for name in XMI_FORMATS:
         uml = read_profile(generated[name][1])
-        assert set(uml.effective_tags("Agent")) == {"declaredType", "reactivation"}
+        assert set(uml.effective_tags("Agent")) == {"declaredType", "reactivation", "host"}
         assert type_of(uml.effective_tags("Agent")["declaredType"], uml.by_id) == "AgentType"
         reactivation = uml.effective_tags("Agent")["reactivation"]
         assert type_of(reactivation, uml.by_id) == "Reactivation" and default_of(reactivation, uml.by_id) == "restart"

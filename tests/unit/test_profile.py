@@ -154,11 +154,12 @@ def test_fsm_transition_has_a_priority_tag_with_default_zero(profile: Profile) -
     )
 
 
-def test_agent_has_optional_declared_type_and_reactivation_tags(profile: Profile) -> None:
-    declared, reactivation = profile.tags("Agent")
+def test_agent_has_optional_declared_type_reactivation_and_host_tags(profile: Profile) -> None:
+    declared, reactivation, host = profile.tags("Agent")
     assert (declared.name, declared.type, declared.lower, declared.upper) == ("declaredType", "AgentType", 0, 1)
     assert (reactivation.name, reactivation.type, reactivation.default) == ("reactivation", "Reactivation", "restart")
     assert profile.enums["Reactivation"] == ("restart", "resume")
+    assert (host.name, host.type, host.lower, host.upper, host.default) == ("host", "String", 0, 1, None)
 
 
 def test_the_tags_are_those_of_the_catalogue(profile: Profile) -> None:
@@ -167,7 +168,7 @@ def test_the_tags_are_those_of_the_catalogue(profile: Profile) -> None:
                       ("InputBuffer", "receive"), ("InputBuffer", "queueSize"),
                       ("FsmState", "bufferGroup"), ("FsmState", "minPeriod"), ("FsmState", "firstTimeout"),
                       ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional"),
-                      ("Agent", "reactivation"), ("FsmState", "configuration"), ("FsmState", "quiescent"),
+                      ("Agent", "reactivation"), ("Agent", "host"), ("FsmState", "configuration"), ("FsmState", "quiescent"),
                       ("Configuration", "agents"), ("Configuration", "links"), ("Configuration", "switchTimeout"),
                       # what import fabric carries of FABRIC and the orocos target writes back
                       ("FsmState", "behaviours"), ("FsmState", "exclusiveGuards"), ("FsmState", "firstTimeoutSim"),
