@@ -215,8 +215,9 @@ def network() -> Iterator[Network]:
 
 
 def received_bytes(host: Host) -> int:
-    result = subprocess.run(["ip", "netns", "exec", host.netns, "cat", f"/sys/class/net/{host.device}/statistics/rx_bytes"],
-                            capture_output=True, text=True, timeout=30)
+    counter = f"/sys/class/net/{host.device}/statistics/rx_bytes"
+    result = subprocess.run(["ip", "netns", "exec", host.netns, "cat", counter], capture_output=True, text=True,
+                            timeout=30)
     assert result.returncode == 0, result.stderr
     return int(result.stdout)
 

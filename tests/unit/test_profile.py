@@ -168,7 +168,8 @@ def test_the_tags_are_those_of_the_catalogue(profile: Profile) -> None:
                       ("InputBuffer", "receive"), ("InputBuffer", "queueSize"),
                       ("FsmState", "bufferGroup"), ("FsmState", "minPeriod"), ("FsmState", "firstTimeout"),
                       ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional"),
-                      ("Agent", "reactivation"), ("Agent", "host"), ("FsmState", "configuration"), ("FsmState", "quiescent"),
+                      ("Agent", "reactivation"), ("Agent", "host"), ("FsmState", "configuration"),
+                      ("FsmState", "quiescent"),
                       ("Configuration", "agents"), ("Configuration", "links"), ("Configuration", "switchTimeout"),
                       # what import fabric carries of FABRIC and the orocos target writes back
                       ("FsmState", "behaviours"), ("FsmState", "exclusiveGuards"), ("FsmState", "firstTimeoutSim"),

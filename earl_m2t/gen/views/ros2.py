@@ -144,9 +144,9 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
         structs.append({**struct, "msg": cpp_type, "header": header})
     convert = {**ros.convert, "ns": ros.convert["ns"].removesuffix("_ros") + "_ros2", "structs": structs,
                "headers": sorted({s["header"] for s in structs})}
+    launch = {"host": "", "agents": packages, "manager_node": target.manager}
     return Ros2View(system=system, packages=packages, components=components, convert=convert,
-                    messages=ros2_messages(msgs), launch={"host": "", "agents": packages, "manager_node": target.manager},
-                    hosts=_hosts(model, packages, target))
+                    messages=ros2_messages(msgs), launch=launch, hosts=_hosts(model, packages, target))
 
 
 def _hosts(model: EarlModel, packages: list[Data], target: Ros2Target) -> list[Data]:
