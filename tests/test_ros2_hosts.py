@@ -131,6 +131,42 @@ def test_the_sample_without_hosts_has_only_the_system_launch(tmp_path: Path) -> 
     assert sorted(p.name for p in (tmp_path / BRINGUP / "launch").iterdir()) == ["system.launch.py"]
 
 
+def gen(model: Path, out: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o", str(out)],
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_untagged_agents_go_on_the_default_host_and_a_host_may_not_replace_the_system_launch(
+        tmp_path: Path) -> None:
+    text = SAMPLE.read_text(encoding="utf-8")
+    head = "part def ManipulatorAgent :> Agent {\n"
+    model = tmp_path / "pick_and_place.sysml"
+    model.write_text(text.replace(head, f'{head}            @AgentHost {{ host = "arm-1"; }}\n'), encoding="utf-8")
+    result = gen(model, tmp_path / "out")
+    assert result.returncode == 0, result.stderr
+    launch = tmp_path / "out" / BRINGUP / "launch"
+    assert sorted(p.name for p in launch.iterdir()) == ["arm-1.launch.py", "default_host.launch.py",
+                                                        "system.launch.py"]
+    assert launch_agents(launch / "default_host.launch.py") == ["grip_a", "task_a"]
+    assert 'name="earl_lifecycle_manager_arm_1"' in (launch / "arm-1.launch.py").read_text()
+    model.write_text(text.replace(head, f'{head}            @AgentHost {{ host = "system"; }}\n'), encoding="utf-8")
+    result = gen(model, tmp_path / "refused")
+    assert result.returncode != 0 and "would replace system.launch.py" in result.stderr
+
+
+def test_show_and_convert_keep_the_hosts(workspace: Path, tmp_path: Path) -> None:
+    converted = tmp_path / "converted.sysml"
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "convert", str(workspace / "pick_and_place.sysml"),
+                             "--to", "sysml", "-o", str(converted)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert converted.read_text(encoding="utf-8").count("@AgentHost {") == 3
+    shown = subprocess.run([sys.executable, "-m", "earl_m2t", "show", str(converted)], capture_output=True, text=True,
+                           timeout=300)
+    assert shown.returncode == 0, shown.stderr
+    hosts = {m.group(1): m.group(2) for m in re.finditer(r"^  agent (\S+) .*  host (\S+)$", shown.stdout, re.MULTILINE)}
+    assert hosts == {"manip/a": "arm", "grip/a": "hand", "task/a": "hand"}
+
+
 # ---------------------------------------------------------------- against a real ROS 2 Jazzy
 
 
