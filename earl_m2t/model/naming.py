@@ -108,7 +108,7 @@ def length_problem(name: str) -> str:
 def host_problem(host: str) -> str:
     """Why the tag host of an «Agent» cannot name a file and a ROS node (rule D007), or "" when it can."""
     table = _table()
-    if not re.match(table["host_pattern"], host):
+    if not re.fullmatch(table["host_pattern"], host):
         return "a host name is letters, digits, '_' and '-'"
     if len(host) > int(table["max_length"]):
         return f"it has {len(host)} characters, more than {table['max_length']}"

@@ -166,8 +166,15 @@ def _hosts(model: EarlModel, packages: list[Data], target: Ros2Target) -> list[D
             raise GenError(f"agent {package['path']}: the host {host} would replace {host}.launch.py, which starts "
                            f"every agent")
         on.setdefault(host, []).append(package)
-    return [{"host": host, "agents": on[host], "manager_node": f"{target.manager}_{host.replace('-', '_')}"}
-            for host in sorted(on)]
+    launches = [{"host": host, "agents": on[host], "manager_node": f"{target.manager}_{host.replace('-', '_')}"}
+                for host in sorted(on)]
+    managers: dict[str, str] = {}
+    for launch in launches:
+        other = managers.setdefault(launch["manager_node"], launch["host"])
+        if other != launch["host"]:
+            raise GenError(f"the hosts {other} and {launch['host']} would both name their lifecycle manager "
+                           f"{launch['manager_node']}")
+    return launches
 
 
 def _publisher_modes(model: EarlModel,
