@@ -166,14 +166,14 @@ def _hosts(model: EarlModel, packages: list[Data], target: Ros2Target) -> list[D
             raise GenError(f"agent {package['path']}: the host {host} would replace {host}.launch.py, which starts "
                            f"every agent")
         on.setdefault(host, []).append(package)
-    launches = [{"host": host, "agents": on[host], "manager_node": f"{target.manager}_{host.replace('-', '_')}"}
-                for host in sorted(on)]
+    launches: list[Data] = []
     managers: dict[str, str] = {}
-    for launch in launches:
-        other = managers.setdefault(launch["manager_node"], launch["host"])
-        if other != launch["host"]:
-            raise GenError(f"the hosts {other} and {launch['host']} would both name their lifecycle manager "
-                           f"{launch['manager_node']}")
+    for host in sorted(on):
+        manager = f"{target.manager}_{host.replace('-', '_')}"
+        other = managers.setdefault(manager, host)
+        if other != host:
+            raise GenError(f"the hosts {other} and {host} would both name their lifecycle manager {manager}")
+        launches.append({"host": host, "agents": on[host], "manager_node": manager})
     return launches
 
 
