@@ -26,7 +26,7 @@ from pathlib import Path
 import pytest
 
 from tests.support import ros2
-from tests.support.load import line_buffered, run_until, stop
+from tests.support.load import cpu_hogs, line_buffered, run_until, stop
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml"
@@ -261,7 +261,7 @@ def received_bytes(host: Host) -> int:
 def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_model(
         built: Path, jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
     """hand's launch in one namespace, arm's in another, on one ROS domain, composed at 1 ms
-    periods; it stops as soon as manip/a.cs (on arm) reached emergencyStop."""
+    periods, under a CPU hog per core; it stops as soon as manip/a.cs (on arm) reached emergencyStop."""
     profile = tmp_path / "udp_only.xml"
     profile.write_text(UDP_ONLY_PROFILE, encoding="utf-8")
     env = jazzy.environment(built, domain_id=random.randint(1, 100))
@@ -280,14 +280,14 @@ def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_mod
 
     arm, hand = network.hosts["arm"], network.hosts["hand"]
     hand_log = tmp_path / "hand.out"
-    with hand_log.open("w") as out:
+    with cpu_hogs(), hand_log.open("w") as out:  # under a CPU hog per core, as the system's launches
         hand_run = subprocess.Popen(launch(hand), stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     env=host_env(hand), text=True, start_new_session=True)
-    try:
-        lines, reached = run_until(launch(arm), lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT,
-                                   host_env(arm))
-    finally:
-        stop(hand_run)
+        try:
+            lines, reached = run_until(launch(arm), lambda out: "emergencyStop" in manip_states(out),
+                                       LAUNCH_TIMEOUT, host_env(arm))
+        finally:
+            stop(hand_run)
     hand_lines = hand_log.read_text(errors="replace").splitlines()
     notable = [f"arm: {line}" for line in lines if re.search(r"a\.cs: |WARN|ERROR|died|manager", line)]
     notable += [f"hand: {line}" for line in hand_lines if re.search(r"WARN|ERROR|died|manager", line)]
