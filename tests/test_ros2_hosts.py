@@ -47,26 +47,9 @@ MIN_RECEIVED = 20_000
 
 # Fast DDS, as ROS 2 Jazzy configures it, also carries data through shared memory between
 # participants of one machine, and the namespaces are one machine (one /dev/shm): this profile
-# leaves only UDPv4, so all traffic between the hosts goes over the veth network. The profile is
-# the default one of every participant (FASTDDS_DEFAULT_PROFILES_FILE).
-UDP_ONLY_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
-<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
-  <transport_descriptors>
-    <transport_descriptor>
-      <transport_id>udp_only</transport_id>
-      <type>UDPv4</type>
-    </transport_descriptor>
-  </transport_descriptors>
-  <participant profile_name="udp_only" is_default_profile="true">
-    <rtps>
-      <userTransports>
-        <transport_id>udp_only</transport_id>
-      </userTransports>
-      <useBuiltinTransports>false</useBuiltinTransports>
-    </rtps>
-  </participant>
-</profiles>
-"""
+# leaves only UDPv4, so all traffic between the hosts goes over the veth network. The profile
+# is the default one of every participant (FASTDDS_DEFAULT_PROFILES_FILE).
+UDP_ONLY_PROFILE = ROOT / "tests" / "support" / "fastdds_udp_only.xml"
 
 
 def with_hosts(text: str) -> str:
@@ -262,8 +245,7 @@ def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_mod
         built: Path, jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
     """hand's launch in one namespace, arm's in another, on one ROS domain, composed at 1 ms
     periods, under a CPU hog per core; it stops as soon as manip/a.cs (on arm) reached emergencyStop."""
-    profile = tmp_path / "udp_only.xml"
-    profile.write_text(UDP_ONLY_PROFILE, encoding="utf-8")
+    profile = UDP_ONLY_PROFILE
     env = jazzy.environment(built, domain_id=random.randint(1, 100))
     # the prefix's env.sh keeps discovery on the machine's loopback; here it crosses the veths
     env.update(ROS_AUTOMATIC_DISCOVERY_RANGE="SUBNET", FASTDDS_DEFAULT_PROFILES_FILE=str(profile),
