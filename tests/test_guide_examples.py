@@ -109,6 +109,7 @@ TABLE_ROWS: dict[str, str] = {
     "`inError()`": "pf-health.uml",
     "`leaving()`": "variable-structure.uml",
     "reactivation": "variable-structure.uml",
+    "host": "inter-agent-links.uml",
     "switch timeout": "variable-structure.uml",
     "variable agent": "variable-structure.uml",
     "coordinator state": "variable-structure.uml",
