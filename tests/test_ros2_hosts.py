@@ -132,9 +132,17 @@ def test_untagged_agents_go_on_the_default_host_and_a_host_may_not_replace_the_s
                                                         "system.launch.py"]
     assert launch_agents(launch / "default_host.launch.py") == ["grip_a", "task_a"]
     assert 'name="earl_lifecycle_manager_arm_1"' in (launch / "arm-1.launch.py").read_text()
+    # the check refuses what gen could not write: a host named system (its launch file would
+    # replace system.launch.py), two hosts that are one name to ROS
     model.write_text(text.replace(head, f'{head}            @AgentHost {{ host = "system"; }}\n'), encoding="utf-8")
     result = gen(model, tmp_path / "refused")
-    assert result.returncode != 0 and "would replace system.launch.py" in result.stderr
+    assert result.returncode != 0 and "D007 error: agent manip/a has host 'system'" in result.stderr, result.stderr
+    assert "'system' is reserved: system.launch.py starts every agent" in result.stderr
+    other = "part def GripperAgent :> Agent {\n"
+    model.write_text(text.replace(head, f'{head}            @AgentHost {{ host = "arm-1"; }}\n')
+                     .replace(other, f'{other}            @AgentHost {{ host = "arm_1"; }}\n'), encoding="utf-8")
+    result = gen(model, tmp_path / "refused")
+    assert result.returncode != 0 and "the two are one name to ROS ('arm_1')" in result.stderr, result.stderr
 
 
 def test_show_and_convert_keep_the_hosts(workspace: Path, tmp_path: Path) -> None:

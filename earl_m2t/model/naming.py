@@ -112,7 +112,15 @@ def host_problem(host: str) -> str:
         return "a host name is letters, digits, '_' and '-'"
     if len(host) > int(table["max_length"]):
         return f"it has {len(host)} characters, more than {table['max_length']}"
+    if host in table["reserved_hosts"]:
+        return f"'{host}' is reserved: {host}.launch.py starts every agent"
     return ""
+
+
+def host_ros_name(host: str) -> str:
+    """A host as part of a ROS node name (no '-' there): ``arm-pc`` -> ``arm_pc``. Two hosts with
+    one ROS name are one host too many (rule D007)."""
+    return host.replace("-", "_")
 
 
 @lru_cache(maxsize=_REMEMBERED)

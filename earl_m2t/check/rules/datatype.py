@@ -13,6 +13,7 @@ from earl_m2t.model.naming import (
     collision_key,
     field_name,
     host_problem,
+    host_ros_name,
     identifier_problem,
     length_problem,
     message_name,
@@ -185,8 +186,17 @@ def windows_reserved_name(model: EarlModel) -> Iterator[Finding]:
 
 @rule("D007")
 def host_name_invalid(model: EarlModel) -> Iterator[Finding]:
+    first_of: dict[str, str] = {}  # a host's ROS name -> the first host written so
     for agent in model.agents:
         problem = host_problem(agent.host) if agent.host else ""
         if problem:
             yield Finding(f"agent {agent.path} has host '{shortened(agent.host)}', which cannot name a file and a "
                           f"ROS node: {problem}", agent.location, agent.path)
+            continue
+        if not agent.host:
+            continue
+        other = first_of.setdefault(host_ros_name(agent.host), agent.host)
+        if other != agent.host:
+            yield Finding(f"agent {agent.path} has host '{agent.host}', and another agent '{other}': the two are one "
+                          f"name to ROS ('{host_ros_name(agent.host)}'), which names a host's lifecycle manager",
+                          agent.location, agent.path)

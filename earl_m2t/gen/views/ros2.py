@@ -29,12 +29,11 @@ from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.views.msg import MsgView
 from earl_m2t.gen.views.ros import RosView
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.model.naming import host_problem
+from earl_m2t.model.naming import host_problem, host_ros_name
 
 Data = dict[str, Any]
 
 QOS_KEYS = ("reliability", "durability", "history", "depth")
-SYSTEM_LAUNCH = "system"  # system.launch.py, the launch of every agent, which no host's may replace
 
 
 def header_stem(message: str) -> str:
@@ -156,25 +155,18 @@ def _hosts(model: EarlModel, packages: list[Data], target: Ros2Target) -> list[D
     host_of = {agent.path: agent.host for agent in model.agents}
     if not any(host_of.get(package["path"]) for package in packages):
         return []
-    on: dict[str, list[Data]] = {}
+    on: dict[str, list[Data]] = {}  # a host's ROS name -> its agents' packages
+    written: dict[str, str] = {}  # a host's ROS name -> the host as first written (its launch file)
     for package in packages:
         host = host_of.get(package["path"]) or target.default_host
         problem = host_problem(host)
         if problem:
             raise GenError(f"D007 agent {package['path']}: host {host!r}: {problem}")
-        if host == SYSTEM_LAUNCH:
-            raise GenError(f"agent {package['path']}: the host {host} would replace {host}.launch.py, which starts "
-                           f"every agent")
-        on.setdefault(host, []).append(package)
-    launches: list[Data] = []
-    managers: dict[str, str] = {}
-    for host in sorted(on):
-        manager = f"{target.manager}_{host.replace('-', '_')}"
-        other = managers.setdefault(manager, host)
-        if other != host:
-            raise GenError(f"the hosts {other} and {host} would both name their lifecycle manager {manager}")
-        launches.append({"host": host, "agents": on[host], "manager_node": manager})
-    return launches
+        # hosts that are one name to ROS (a-b, a_b) are one host; rule D007 reports two tagged ones
+        on.setdefault(host_ros_name(host), []).append(package)
+        written.setdefault(host_ros_name(host), host)
+    return [{"host": written[name], "agents": on[name], "manager_node": f"{target.manager}_{name}"}
+            for name in sorted(on)]
 
 
 def _publisher_modes(model: EarlModel,
