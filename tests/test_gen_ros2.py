@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import ast
 import json
-import os
 import random
 import re
 import shutil
@@ -149,14 +148,7 @@ def test_qos_follows_the_receive_modes(workspace: tuple[Path, str]) -> None:
 def jazzy() -> ros2.Installation:
     """The ROS 2 prefix of tests/support/ros2.py. With ../shared/vendor/ros2 beside the checkout
     a missing or failed build is a failure (never a skip), with the build log's tail."""
-    try:
-        return ros2.installation()
-    except ros2.Ros2BuildFailed as failure:
-        pytest.fail(str(failure), pytrace=False)
-    except ros2.Ros2Unavailable as reason:
-        if ros2.VENDOR.is_dir() or os.environ.get("ROS2_JAZZY_PREFIX"):
-            pytest.fail(str(reason), pytrace=False)
-        pytest.skip(str(reason))
+    return ros2.installation_for_tests()
 
 
 PARSE = """
@@ -187,9 +179,7 @@ def test_rosidl_parses_every_generated_message(workspace: tuple[Path, str], jazz
 @pytest.fixture(scope="module")
 def built(workspace: tuple[Path, str], jazzy: ros2.Installation) -> Path:
     ws, _ = workspace
-    result = subprocess.run(jazzy.colcon_build_command(), cwd=ws, capture_output=True, text=True,
-                            env=jazzy.environment(), timeout=1800)
-    assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+    jazzy.colcon_build(ws)
     return ws
 
 

@@ -12,7 +12,6 @@ with the reason, it is never skipped."""
 from __future__ import annotations
 
 import ast
-import os
 import random
 import re
 import secrets
@@ -164,21 +163,12 @@ def test_show_and_convert_keep_the_hosts(workspace: Path, tmp_path: Path) -> Non
 @pytest.fixture(scope="module")
 def jazzy() -> ros2.Installation:
     """The ROS 2 prefix of tests/support/ros2.py (as in tests/test_gen_ros2.py)."""
-    try:
-        return ros2.installation()
-    except ros2.Ros2BuildFailed as failure:
-        pytest.fail(str(failure), pytrace=False)
-    except ros2.Ros2Unavailable as reason:
-        if ros2.VENDOR.is_dir() or os.environ.get("ROS2_JAZZY_PREFIX"):
-            pytest.fail(str(reason), pytrace=False)
-        pytest.skip(str(reason))
+    return ros2.installation_for_tests()
 
 
 @pytest.fixture(scope="module")
 def built(workspace: Path, jazzy: ros2.Installation) -> Path:
-    result = subprocess.run(jazzy.colcon_build_command(), cwd=workspace, capture_output=True, text=True,
-                            env=jazzy.environment(), timeout=1800)
-    assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+    jazzy.colcon_build(workspace)
     return workspace
 
 

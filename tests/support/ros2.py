@@ -67,6 +67,12 @@ class Installation:
             env["ROS_DOMAIN_ID"] = str(domain_id)
         return env
 
+    def colcon_build(self, workspace: Path) -> None:
+        """``colcon build`` of ``workspace``; a failure fails the calling test with colcon's output."""
+        result = subprocess.run(self.colcon_build_command(), cwd=workspace, capture_output=True, text=True,
+                                env=self.environment(), timeout=1800)
+        assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+
     def colcon_build_command(self) -> list[str]:
         """colcon build with the flags of the README's `Use` section."""
         return ["colcon", "build", "--event-handlers", "console_direct-", "console_stderr+",
@@ -223,3 +229,19 @@ def main(argv: list[str]) -> int:
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv))
+
+
+def installation_for_tests() -> Installation:
+    """:func:`installation` for a test fixture: with ../shared/vendor/ros2 beside the checkout (or
+    ``ROS2_JAZZY_PREFIX`` set) a missing or failed build fails the test, with the build log's
+    tail; without them the ROS 2 tests are skipped."""
+    import pytest
+
+    try:
+        return installation()
+    except Ros2BuildFailed as failure:
+        pytest.fail(str(failure), pytrace=False)
+    except Ros2Unavailable as reason:
+        if VENDOR.is_dir() or os.environ.get("ROS2_JAZZY_PREFIX"):
+            pytest.fail(str(reason), pytrace=False)
+        pytest.skip(str(reason))
