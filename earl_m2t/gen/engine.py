@@ -37,8 +37,29 @@ def load_target(target: str) -> dict[str, Any]:
         raise GenError(f"{path}: {error}") from None
 
 
+class _CompiledTemplates(jinja2.BytecodeCache):
+    """Templates compiled once per process and shared by the environments of :func:`environment`,
+    which all have the same options. Jinja keys a template by its file and checks the checksum
+    of its text, so a user template or an edited file is compiled anew."""
+
+    def __init__(self) -> None:
+        self._code: dict[str, bytes] = {}
+
+    def load_bytecode(self, bucket: jinja2.bccache.Bucket) -> None:
+        code = self._code.get(bucket.key)
+        if code is not None:
+            bucket.bytecode_from_string(code)
+
+    def dump_bytecode(self, bucket: jinja2.bccache.Bucket) -> None:
+        self._code[bucket.key] = bucket.bytecode_to_string()
+
+
+_COMPILED = _CompiledTemplates()
+
+
 def environment(target: str, user_templates: Path | None = None) -> jinja2.Environment:
-    """A fresh environment (no global state) for a target's templates."""
+    """A fresh environment for a target's templates: its own filters and globals, the compiled
+    templates shared (a process that generates many times parses each template once)."""
     loaders: list[jinja2.BaseLoader] = []
     if user_templates is not None:
         if not user_templates.is_dir():
@@ -52,6 +73,7 @@ def environment(target: str, user_templates: Path | None = None) -> jinja2.Envir
         trim_blocks=True,
         lstrip_blocks=True,
         autoescape=False,
+        bytecode_cache=_COMPILED,
     )
 
 
