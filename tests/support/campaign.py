@@ -27,5 +27,12 @@ def loaded_runs() -> int:
     return int(text)
 
 
+def long_runs(divisor: int) -> int:
+    """The runs of a campaign whose every run takes long (tens of seconds under load): all of
+    :func:`loaded_runs` in a full campaign, a ``divisor``-th of them (at least 2) in a shorter one."""
+    runs = loaded_runs()
+    return runs if runs >= FULL else max(2, runs // divisor)
+
+
 #: Up to how many runs a search for an expected failure tries.
 CATCH_ATTEMPTS = FULL
