@@ -6,7 +6,9 @@ Entries are keyed by a hash of the source file, the earl-m2t version, the Python
 the size and modification time of earl-m2t's own modules (so a changed loader in a working copy
 does not read what an older one cached); a stale or unreadable entry is rebuilt. The cache
 lives in ``$XDG_CACHE_HOME/earl-m2t`` (``~/.cache/earl-m2t``); ``EARL_M2T_NO_CACHE=1`` turns it
-off. Failing to write it is not an error.
+off. Failing to write it is not an error. Each kind of entry keeps its ``KEPT_PER_KIND`` most
+recently used entries: a hit refreshes an entry's time, and a write removes the oldest beyond
+that, so the entries of past versions and edited sources do not pile up.
 """
 
 from __future__ import annotations
@@ -22,6 +24,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 T = TypeVar("T")
+
+#: entries kept per kind (``name``): enough for the profiles and rule files of a few projects
+KEPT_PER_KIND = 24
 
 
 def cache_dir() -> Path | None:
@@ -78,8 +83,11 @@ def read_cached(name: str, source: Path) -> Any:
     if directory is None:
         return None
     try:
-        with open(directory / f"{name}-{_key(source)}.pickle", "rb") as stream:
-            return pickle.load(stream)  # noqa: S301 - the user's own cache, written below
+        entry = directory / f"{name}-{_key(source)}.pickle"
+        with open(entry, "rb") as stream:
+            value = pickle.load(stream)  # noqa: S301 - the user's own cache, written below
+        os.utime(entry)  # recently used: kept by _prune
+        return value
     except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError, TypeError, RecursionError):
         return None
 
@@ -98,6 +106,7 @@ def write_cached(name: str, source: Path, value: object) -> None:
             pickle.dump(value, stream, protocol=pickle.HIGHEST_PROTOCOL)
         os.replace(temporary, entry)
         temporary = None
+        _prune(directory, name)
     except (OSError, pickle.PicklingError, TypeError, AttributeError, RecursionError):
         pass
     finally:
@@ -106,3 +115,18 @@ def write_cached(name: str, source: Path, value: object) -> None:
                 os.unlink(temporary)
             except OSError:
                 pass
+
+
+def _prune(directory: Path, name: str) -> None:
+    """Remove the entries of ``name`` beyond the ``KEPT_PER_KIND`` most recently used."""
+    entries = []
+    for path in directory.glob(f"{name}-*.pickle"):
+        try:
+            entries.append((path.stat().st_mtime_ns, path.name, path))
+        except OSError:  # removed meanwhile by another process
+            continue
+    for _, _, path in sorted(entries, reverse=True)[KEPT_PER_KIND:]:
+        try:
+            path.unlink()
+        except OSError:
+            pass
