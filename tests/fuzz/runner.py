@@ -8,10 +8,11 @@ package), which mutations, which command (``COMMANDS``: mostly ``check``; also `
 ``verify --timeout 2``, ``report``; a FABRIC package goes through ``import fabric`` and a check
 of what it wrote). Each worker runs its inputs one after the other in one process
 (``earl_m2t.cli.app.main``, output captured), under an address-space limit; the parent gives
-every input a bound of the worker's CPU time (``--bound``, 60 s; a worker starved by a busy
-machine is not counted) and of wall time (``WALL_FACTOR`` times as long: an input blocked
-without using the CPU), and counts an input that exceeds either as a hang: the worker is killed
-and a new one goes on with the next input.
+every input a bound of the worker's CPU time (``--bound``, 60 s) and of the time it is blocked
+(``WALL_FACTOR`` times as long: neither the worker nor a process it started running or waiting
+for a CPU, nor its CPU time growing; tests/fuzz/watch.py), and counts an input that exceeds
+either as a hang: the worker is killed and a new one goes on with the next input. A worker
+starved by a busy machine (a niced campaign beside other work) is never counted.
 
 An input fails (``tests/fuzz/properties.py``) on an internal error, an exit code outside its
 command's table, SPIN refusing the Promela verify wrote, a hang, a peak resident memory over
@@ -53,6 +54,7 @@ from tests.fuzz.memory import peak_kb, reset_peak  # noqa: E402
 from tests.fuzz.mutate import mutate  # noqa: E402
 from tests.fuzz.mutate_fabric import mutate_package, package_folders, read_package, write_package  # noqa: E402
 from tests.fuzz.properties import CLASSES, HANG, INTERNAL, Failure, Run, check_then_gen, contract, memory, round_trip  # noqa: E402
+from tests.fuzz.watch import cpu_seconds, runnable  # noqa: E402
 
 CORPUS = ROOT.parent / "shared" / "corpus"
 FABRIC = ROOT.parent / "shared" / "fabric" / "examples"
@@ -76,19 +78,6 @@ CLEAN_GEN_SKIPPED = {"diagrams-png": "renders every diagram with Graphviz: secon
 ADDRESS_SPACE = 6 << 30  # a worker's limit: a runaway read ends in MemoryError, counted as a failure
 DEFAULT_BOUND = 60.0
 WALL_FACTOR = 15
-_TICKS = os.sysconf("SC_CLK_TCK")
-
-
-def cpu_seconds(pid: int) -> float:
-    """User and system CPU time of a running process (0 when it cannot be read)."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as stream:
-            fields = stream.read().rsplit(b")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / _TICKS
-    except (OSError, IndexError, ValueError):
-        return 0.0
-
-
 @dataclass(frozen=True)
 class Seed:
     path: Path  # a model file, or a FABRIC package's folder
@@ -319,6 +308,30 @@ class Result:
         return "; ".join(f"{kind}: {message}" for kind, message in self.failures)
 
 
+class _Slot:
+    """A worker, the input it runs, and how long that input has been blocked so far."""
+
+    def __init__(self, process: multiprocessing.process.BaseProcess, connection: Connection, index: int,
+                 cpu_since: float = 0.0) -> None:
+        self.process = process
+        self.connection = connection
+        self.index = index
+        self.cpu_since = cpu_since  # the worker's CPU time when the input began
+        self.blocked = 0.0  # seconds in which neither it ran nor waited for a CPU
+        self._cpu = cpu_since
+        self._looked = time.monotonic()
+
+    def watch(self) -> float:
+        """The worker's CPU time now; the time since the last look counts as blocked unless the
+        worker used the CPU meanwhile or it (or a process it started) is runnable now."""
+        cpu = cpu_seconds(self.process.pid or 0)
+        now = time.monotonic()
+        if cpu == self._cpu and not runnable(self.process.pid or 0):
+            self.blocked += now - self._looked
+        self._cpu, self._looked = cpu, now
+        return cpu
+
+
 class Campaign:
     """Inputs ``first`` … ``first + count - 1`` of a seed, over ``jobs`` watched workers."""
 
@@ -337,8 +350,7 @@ class Campaign:
         pending = list(range(first + count - 1, first - 1, -1))
         results: list[Result] = []
         scratch = Path(tempfile.mkdtemp(prefix="earl-m2t-fuzz-"))
-        # slot -> (worker, its connection, the input it runs, wall clock and worker CPU time when it began)
-        workers: dict[int, tuple[multiprocessing.process.BaseProcess, Connection, int, float, float]] = {}
+        workers: dict[int, _Slot] = {}
         started = time.monotonic()
         saved = reported = 0
         try:
@@ -354,33 +366,35 @@ class Campaign:
                     child.close()
                     index = pending.pop()
                     parent.send(index)
-                    workers[slot] = (process, parent, index, time.monotonic(), 0.0)
-                ready = multiprocessing.connection.wait([w[1] for w in workers.values()], timeout=1.0)
-                for slot, (process, connection, index, since, cpu_since) in list(workers.items()):
+                    workers[slot] = _Slot(process, parent, index)
+                ready = multiprocessing.connection.wait([w.connection for w in workers.values()], timeout=1.0)
+                for slot, worker in list(workers.items()):
+                    process, connection = worker.process, worker.connection
                     if connection in ready:
                         try:
                             done, code, found, peak, dialect, command = connection.recv()
                         except (EOFError, OSError):  # the worker died (a crash in C code, a kill)
                             process.join()
-                            results.append(self._result(index, -3, INTERNAL, f"worker died (exit {process.exitcode})"))
+                            results.append(self._result(worker.index, -3, INTERNAL,
+                                                        f"worker died (exit {process.exitcode})"))
                             del workers[slot]
                             continue
                         results.append(Result(done, dialect, command, code, found, peak))
                         if pending:
                             index = pending.pop()
                             connection.send(index)
-                            workers[slot] = (process, connection, index, time.monotonic(),
-                                             cpu_seconds(process.pid or 0))
+                            workers[slot] = _Slot(process, connection, index, cpu_seconds(process.pid or 0))
                         else:
                             connection.send(None)
                             process.join()
                             del workers[slot]
-                    elif (cpu_seconds(process.pid or 0) - cpu_since > self.bound
-                          or time.monotonic() - since > self.bound * WALL_FACTOR):
+                    elif (worker.watch() - worker.cpu_since > self.bound
+                          or worker.blocked > self.bound * WALL_FACTOR):
                         process.kill()
                         process.join()
-                        results.append(self._result(index, -1, HANG, f"no result within {self.bound:g} s of CPU "
-                                                                     f"time or {self.bound * WALL_FACTOR:g} s"))
+                        results.append(self._result(worker.index, -1, HANG,
+                                                    f"no result within {self.bound:g} s of CPU time or "
+                                                    f"{self.bound * WALL_FACTOR:g} s blocked"))
                         del workers[slot]
                 while saved < len(results):
                     if regressions is not None and results[saved].failures:
@@ -394,9 +408,9 @@ class Campaign:
                     print(f"{len(results)} inputs, {rate:.1f}/s; so far:\n{summary(results)}", file=sys.stderr,
                           flush=True)
         finally:
-            for process, _, _, _, _ in workers.values():
-                process.kill()
-                process.join()
+            for worker in workers.values():
+                worker.process.kill()
+                worker.process.join()
             shutil.rmtree(scratch, ignore_errors=True)
         return sorted(results, key=lambda r: r.index)
 

@@ -1,0 +1,69 @@
+"""How the fuzz campaign tells a blocked input (a hang) from a starved one (a busy machine):
+tests/fuzz/watch.py and the runner's per-worker bookkeeping."""
+
+from __future__ import annotations
+
+import multiprocessing
+import subprocess
+import sys
+import time
+
+from tests.fuzz.runner import _Slot
+from tests.fuzz.watch import runnable
+
+SPIN = "while True: pass"
+
+
+def test_a_spinning_process_is_runnable_a_sleeping_one_is_not() -> None:
+    sleeping = subprocess.Popen(["sleep", "30"])
+    spinning = subprocess.Popen([sys.executable, "-c", SPIN])
+    try:
+        time.sleep(0.3)
+        assert runnable(spinning.pid)
+        assert not runnable(sleeping.pid)
+    finally:
+        for process in (sleeping, spinning):
+            process.kill()
+            process.wait()
+
+
+def test_a_process_waiting_for_a_child_that_works_is_runnable() -> None:
+    parent = subprocess.Popen([sys.executable, "-c",
+                               f"import subprocess, sys; subprocess.run([sys.executable, '-c', {SPIN!r}])"])
+    try:
+        time.sleep(0.5)
+        assert runnable(parent.pid)
+    finally:
+        subprocess.run(["pkill", "-KILL", "-P", str(parent.pid)], check=False)
+        parent.kill()
+        parent.wait()
+
+
+def _sleep() -> None:
+    time.sleep(30)
+
+
+def _spin() -> None:
+    while True:
+        pass
+
+
+def test_a_worker_counts_blocked_time_only_while_it_neither_runs_nor_waits_for_a_cpu() -> None:
+    context = multiprocessing.get_context("fork")
+    slots = {}
+    for name, target in (("sleeping", _sleep), ("spinning", _spin)):
+        process = context.Process(target=target, daemon=True)
+        process.start()
+        parent, _ = context.Pipe()
+        slots[name] = _Slot(process, parent, 0)
+    try:
+        for _ in range(6):
+            time.sleep(0.2)
+            for slot in slots.values():
+                slot.watch()
+        assert slots["sleeping"].blocked >= 0.8
+        assert slots["spinning"].blocked == 0.0
+    finally:
+        for slot in slots.values():
+            slot.process.kill()
+            slot.process.join()
