@@ -17,11 +17,20 @@ ago it was written:
   TaskContext doing what the generated Orocos master does (an event port, a
   FileDescriptorActivity whose timeout is the subsystem's next deadline), the writer an RTT
   output port connected to it; ``orocos polling 0.2 ms``: the same built with
-  ``-DEARL_OROCOS_POLL=1`` (a plain port, a periodic 0.2 ms activity: the master before). Built
+  ``-DEARL_OROCOS_POLL=1`` (a plain port, a periodic 0.2 ms activity: the master before);
+  ``orocos plain Activity`` (``-DEARL_OROCOS_ACTIVITY=1``): RTT's non-periodic Activity, which
+  has no timeout (for comparison only); ``orocos wake activity`` (``-DEARL_OROCOS_WAKE=1``):
+  earl::rtt::WakeActivity (``bench/cpp/rtt_wake_activity.hpp``), a thread
+  sleeping on an earl wake word with the subsystem's next deadline; ``orocos wake act. + hook``
+  (``-DEARL_OROCOS_WAKE=2``): the same, the master's dataOnPortHook() asking it for the update
+  step directly instead of through RTT's port queue and callback step. Built
   against the Orocos RTT the tests use (``tests/support/orocos.py``); left out, with the reason,
   when there is none.
 
-Each runs unloaded, then loaded (one spinning process per CPU, started by the bench). Then,
+Each runs unloaded, then loaded (one spinning process per CPU, started by the bench), in
+``--rounds`` rounds: the programs in turn, each time a share of the hand-offs, their samples
+merged per program, so that a change of the machine's other load between rows falls on every
+program alike. Then,
 unloaded, the CPU time (utime + stime from /proc/PID/stat) over a few seconds of:
 
 * the event-driven reader waiting with nothing written (wake word, polling);
@@ -70,9 +79,13 @@ PROGRAMS = {  # name: (source, extra flags)
 OROCOS_PROGRAMS = {
     "orocos": ("latency_orocos.cpp", []),
     "orocos_poll": ("latency_orocos.cpp", ["-DEARL_OROCOS_POLL=1"]),
+    "orocos_activity": ("latency_orocos.cpp", ["-DEARL_OROCOS_ACTIVITY=1"]),
+    "orocos_wake": ("latency_orocos.cpp", ["-DEARL_OROCOS_WAKE=1"]),
+    "orocos_wake_hook": ("latency_orocos.cpp", ["-DEARL_OROCOS_WAKE=2"]),
 }
 # (what, its polling variant): each is compared with the condition variable and its polling
-COMPARED = (("wake", "poll"), ("orocos", "orocos_poll"))
+COMPARED = (("wake", "poll"), ("orocos", "orocos_poll"), ("orocos_activity", "orocos_poll"),
+            ("orocos_wake", "orocos_poll"), ("orocos_wake_hook", "orocos_poll"))
 
 
 def build(cxx: str, source: Path, binary: Path, *flags: str) -> None:
@@ -133,14 +146,39 @@ def cpu_hogs(count: int) -> Iterator[None]:
             hog.wait()
 
 
-def handoffs(binary: Path, samples: int) -> dict:
+def handoffs(binary: Path, samples: int) -> tuple[dict, list[int]]:
+    """One run of ``binary``: its JSON line and its samples in nanoseconds."""
+    raw = binary.parent / f"{binary.name}.samples"
     # in the work folder: RTT writes its orocos.log into the current one
     result = subprocess.run([str(binary), "--samples", str(samples)], capture_output=True, text=True, timeout=600,
-                            cwd=binary.parent)
+                            cwd=binary.parent, env={**os.environ, "LATENCY_RAW": str(raw)})
     if result.returncode != 0:
         sys.exit(f"{binary.name} failed:\n{result.stderr}")
     row: dict = json.loads(result.stdout.strip().splitlines()[-1])
-    return row
+    return row, [int(line) for line in raw.read_text().split()]
+
+
+def merged(row: dict, ns: list[int]) -> dict:
+    """``row`` with its percentiles over the samples of every round (as latency.hpp takes them)."""
+    ns = sorted(ns)
+
+    def at(q: float) -> float:
+        return ns[int(q * (len(ns) - 1))] / 1e3
+
+    return {**row, "samples": len(ns), "p50_us": at(0.5), "p99_us": at(0.99), "max_us": ns[-1] / 1e3}
+
+
+def rows_of(binaries: dict[str, Path], samples: int, rounds: int, load: str) -> list[dict]:
+    """Every program ``rounds`` times in turn, ``samples / rounds`` hand-offs each time, so that
+    a change of the machine's other load falls on every program alike; merged per program."""
+    first: dict[str, dict] = {}
+    ns: dict[str, list[int]] = {name: [] for name in binaries}
+    for _ in range(rounds):
+        for name, binary in binaries.items():
+            row, taken = handoffs(binary, max(1, samples // rounds))
+            first.setdefault(name, row)
+            ns[name] += taken
+    return [{"load": load, "program": name, **merged(first[name], ns[name])} for name in binaries]
 
 
 def cpu_seconds(pid: int) -> float:
@@ -178,7 +216,7 @@ def report(rows: list[dict], idle: list[dict], missing: dict[str, str]) -> None:
             if wake not in by:
                 continue
             cv, poll = by[wake]["p99_us"] / by["cv"]["p99_us"], by[wake]["p99_us"] / by[polling]["p99_us"]
-            print(f"{load:<9} {by[wake]['variant']:<18} p99 / p99 condition variable = {cv:.2f}  (target <= "
+            print(f"{load:<9} {by[wake]['variant']:<23} p99 / p99 condition variable = {cv:.2f}  (target <= "
                   f"{TARGET_CV}: {'ok' if cv <= TARGET_CV else 'MISSED'});  p99 / p99 polling = {poll:.2f}  "
                   f"(target < {TARGET_POLL}: {'ok' if poll < TARGET_POLL else 'MISSED'})")
     print()
@@ -200,6 +238,8 @@ def report(rows: list[dict], idle: list[dict], missing: dict[str, str]) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--samples", type=int, default=10_000, help="hand-offs per row (at least 10,000 advised)")
+    parser.add_argument("--rounds", type=int, default=5,
+                        help="the programs run in turn this many times per load, their samples merged")
     parser.add_argument("--idle", type=float, default=4.0, help="seconds of each idle CPU measurement")
     parser.add_argument("--out", type=Path, default=BENCH / "out" / "latency", help="work folder")
     parser.add_argument("--cxx", default=os.environ.get("CXX", "g++"), help="C++ compiler (default $CXX or g++)")
@@ -216,13 +256,13 @@ def main(argv: list[str] | None = None) -> int:
     binaries.update(orocos_binaries)
     agent = build_agent(args.cxx, args.out)
     cpus = os.cpu_count() or 2
-    print(f"{args.samples:,} hand-offs per row, {cpus} CPU(s); {args.cxx} {' '.join(CXXFLAGS[:3])}")
+    print(f"{args.samples:,} hand-offs per row in {args.rounds} rounds (the programs in turn), {cpus} CPU(s); "
+          f"{args.cxx} {' '.join(CXXFLAGS[:3])}")
     rows = []
     for load in ("unloaded", "loaded"):
         context = cpu_hogs(cpus) if load == "loaded" else contextmanager(lambda: iter([None]))()
         with context:
-            for name in binaries:
-                rows.append({"load": load, "program": name, **handoffs(binaries[name], args.samples)})
+            rows += rows_of(binaries, args.samples, args.rounds, load)
     seconds = str(args.idle + 2)
     timer = args.out / "timer_loop"
     build(args.cxx, SOURCES / "timer_loop.cpp", timer)
@@ -241,6 +281,8 @@ def main(argv: list[str] | None = None) -> int:
     if orocos_binaries:
         runs[2:2] = [("Orocos master waiting, nothing written: event port",
                       [str(binaries["orocos"]), "--idle", seconds], {"target": True}),
+                     ("Orocos master waiting, nothing written: wake activity + hook",
+                      [str(binaries["orocos_wake_hook"]), "--idle", seconds], {"target": True}),
                      ("Orocos master waiting, nothing written: polling 0.2 ms",
                       [str(binaries["orocos_poll"]), "--idle", seconds], {})]
     idle = [{"what": what, "percent": idle_cpu(command, args.idle), **flags} for what, command, flags in runs]

@@ -47,8 +47,15 @@ inline Options parse(int argc, char** argv) {
   return o;
 }
 
-/// One JSON line: the percentiles of ``ns`` in microseconds.
+/// One JSON line: the percentiles of ``ns`` in microseconds. With LATENCY_RAW set, also every
+/// sample, in nanoseconds, one a line, into that file (bench/latency.py merges rounds so).
 inline void report(const char* variant, std::vector<std::int64_t>& ns, std::uint64_t extra, const char* extraName) {
+  if (const char* raw = std::getenv("LATENCY_RAW")) {
+    if (std::FILE* file = std::fopen(raw, "w")) {
+      for (const std::int64_t v : ns) std::fprintf(file, "%lld\n", static_cast<long long>(v));
+      std::fclose(file);
+    }
+  }
   std::sort(ns.begin(), ns.end());
   auto at = [&ns](double q) {
     const auto i = static_cast<std::size_t>(q * static_cast<double>(ns.size() - 1));
