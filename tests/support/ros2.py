@@ -17,13 +17,16 @@ from __future__ import annotations
 
 import fcntl
 import hashlib
+import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[2]
 VENDOR = ROOT.parent / "shared" / "vendor" / "ros2"
@@ -32,6 +35,10 @@ LOG_TAIL_LINES = 40
 COLCON_CMAKE_ARGS = ("-DCMAKE_BUILD_TYPE=None", "-DCMAKE_C_FLAGS=-O0 -g0", "-DCMAKE_CXX_FLAGS=-O0 -g0",
                      "-DBUILD_TESTING=OFF", "-DCMAKE_EXE_LINKER_FLAGS=-Wl,--as-needed,--allow-shlib-undefined",
                      "-DCMAKE_SHARED_LINKER_FLAGS=-Wl,--as-needed")
+
+
+# a line of a generated parameter file: a node's fully qualified name, or a parameter and its value
+PARAMETER_FILE_LINE = re.compile(r"^(?:(/[\w/]+):|    (\w+): (.+))$")
 
 
 class Ros2Unavailable(Exception):
@@ -77,6 +84,22 @@ class Installation:
         """colcon build with the flags of the README's `Use` section."""
         return ["colcon", "build", "--event-handlers", "console_direct-", "console_stderr+",
                 "--cmake-args", *COLCON_CMAKE_ARGS, f"-DPython3_EXECUTABLE={self.python}"]
+
+
+def generated_parameters(path: Path) -> dict[str, dict[str, Any]]:
+    """A parameter file gen wrote (``config/<agent>.yaml``), by node: the values of its
+    ``ros__parameters``. Reads only the layout gen writes (each scalar one JSON value), so that
+    the tests need no YAML library; launch_ros reads it with PyYAML and the nodes with rcl."""
+    nodes: dict[str, dict[str, Any]] = {}
+    for line in path.read_text(encoding="utf-8").splitlines():
+        found = PARAMETER_FILE_LINE.match(line)
+        if found and found.group(1):
+            nodes[found.group(1)] = {}
+        elif found:
+            nodes[next(reversed(nodes))][found.group(2)] = json.loads(found.group(3))
+        else:
+            assert line.startswith("#") or line == "  ros__parameters:", f"{path.name}: {line!r}"
+    return nodes
 
 
 def is_usable(prefix: Path) -> bool:
