@@ -338,6 +338,64 @@ def test_a_value_of_the_parameter_file_is_the_one_the_node_uses(built: Path, jaz
     assert started, "\n".join(lines[-20:])
 
 
+LAUNCH_NODES = 17 + 3 + 1  # the subsystems' nodes, 3 containers when composed, the lifecycle manager
+
+
+def subsystem_nodes(nodes: list[dict[str, object]]) -> list[dict[str, object]]:
+    return [n for n in nodes if n["package"] not in ("rclcpp_components", BRINGUP)]
+
+
+def remap_problems(nodes: list[dict[str, object]], links: dict[str, str]) -> list[str]:
+    """How the remappings launch gives the nodes differ from the model's links (input's topic ->
+    output's topic), each remap in the namespace of its node."""
+    problems = []
+    remaps: dict[str, str] = {}
+    for node in subsystem_nodes(nodes):
+        for source, target in node["remappings"]:  # type: ignore[attr-defined]
+            if not source.startswith(f"{node['name']}/") or source in remaps:
+                problems.append(f"{node['name']}: remaps {source} again or from another node")
+            remaps[source] = target
+    problems += [f"link {s} -> {t} not remapped" for s, t in links.items() if remaps.get(s) != t]
+    problems += [f"remap {s} -> {t} is no link" for s, t in remaps.items() if links.get(s) != t]
+    return problems
+
+
+@pytest.mark.parametrize("composed", ["true", "false"])
+def test_launch_loads_the_launch_file_with_the_links_of_the_model_and_the_agents_parameter_files(
+        built: Path, jazzy: ros2.Installation, tmp_path: Path, composed: str) -> None:
+    """system.launch.py as launch's own loader evaluates it (tests/support/ros2_launch_description.py):
+    the remaps are exactly the model's links, every subsystem is one node, which gets its agent's
+    installed parameter file first and then period:= as an override (and no override without
+    it), composed in its agent's container or a process of its own. A copy of the launch file
+    without one remap is reported."""
+    model = load(str(SAMPLE)).model
+    links = {topic(link.target): topic(link.source) for link in model.links}
+    share = built / "install" / BRINGUP / "share" / BRINGUP
+    launch_file = share / "launch" / "system.launch.py"
+    nodes = jazzy.launch_description(built, launch_file, composed=composed, period="0.002")
+    assert len(nodes) == LAUNCH_NODES - (3 if composed == "false" else 0)
+    assert remap_problems(nodes, links) == []
+    paths = {values["path"]: name for name, values in node_parameters(share).items()}
+    assert sorted(n["name"] for n in subsystem_nodes(nodes)) == sorted(paths.values())
+    assert sorted(paths) == sorted(sub.path for sub in model.subsystems)
+    for node in subsystem_nodes(nodes):
+        agent = str(node["name"]).split("/")[1]
+        assert node["parameters"] == [{"file": str(installed_parameter_file(built, agent))},
+                                      {"values": {"period": 0.002}}], node
+        assert node["container"] == (f"/{agent}/{agent}_container" if composed == "true" else None)
+    unset = jazzy.launch_description(built, launch_file, composed=composed)
+    assert all(len(n["parameters"]) == 1 for n in subsystem_nodes(unset))  # type: ignore[arg-type]
+
+    # the comparison can fail: a copy of the launch file without the remap of manip/a.cs's commands
+    remap = '("/manip_a/cs/manipulator_command_ib", "/task_a/cs/manipulator_command_ob")'
+    text = launch_file.read_text()
+    edited = tmp_path / "system.launch.py"
+    edited.write_text(text.replace(", " + remap, "").replace(remap + ", ", ""))
+    assert edited.read_text() != text
+    assert remap_problems(jazzy.launch_description(built, edited, composed=composed), links) == [
+        "link /manip_a/cs/manipulator_command_ib -> /task_a/cs/manipulator_command_ob not remapped"]
+
+
 GRAPH = ROOT / "tests" / "support" / "ros2_graph.py"
 # what discovery tells of a remote endpoint's QoS: reliability and durability (its history and
 # depth stay local, "unknown" in the graph; test_qos_follows_the_receive_modes reads them)

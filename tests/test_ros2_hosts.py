@@ -171,6 +171,32 @@ def built(workspace: Path, jazzy: ros2.Installation) -> Path:
     return workspace
 
 
+@pytest.mark.parametrize("composed", ["true", "false"])
+def test_launch_splits_the_nodes_of_the_system_launch_between_the_host_launch_files(
+        built: Path, jazzy: ros2.Installation, composed: str) -> None:
+    """Each launch file as launch's own loader evaluates it (tests/support/ros2_launch_description.py):
+    every node of system.launch.py is started by exactly one host's launch file, the one of its
+    agent, with the same remappings and parameters; each host has a lifecycle manager of its own."""
+    launch = built / "install" / BRINGUP / "share" / BRINGUP / "launch"
+    system = {n["name"]: n for n in jazzy.launch_description(built, launch / "system.launch.py", composed=composed)}
+    assert "/earl_lifecycle_manager" in system
+    on: dict[str, dict[str, dict[str, object]]] = {}
+    for host in AGENTS_ON:
+        nodes = jazzy.launch_description(built, launch / f"{host}.launch.py", composed=composed)
+        on[host] = {n["name"]: n for n in nodes}
+        assert len(on[host]) == len(nodes)
+        assert f"/earl_lifecycle_manager_{host}" in on[host]
+        subsystems = {name for name in on[host] if not name.startswith("/earl_lifecycle_manager")}
+        assert {name.split("/")[1] for name in subsystems} == set(AGENTS_ON[host])
+        assert len([name for name in subsystems if not name.endswith("_container")]) == NODES_ON[host]
+    started = [name for nodes in on.values() for name in nodes if not name.startswith("/earl_lifecycle_manager")]
+    assert sorted(started) == sorted(name for name in system if name != "/earl_lifecycle_manager")
+    for nodes in on.values():
+        for name, node in nodes.items():
+            if not name.startswith("/earl_lifecycle_manager"):
+                assert node == system[name]
+
+
 def ip(*args: str) -> None:
     result = subprocess.run(["ip", *args], capture_output=True, text=True, timeout=30)
     if result.returncode != 0:

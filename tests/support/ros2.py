@@ -37,6 +37,7 @@ COLCON_CMAKE_ARGS = ("-DCMAKE_BUILD_TYPE=None", "-DCMAKE_C_FLAGS=-O0 -g0", "-DCM
                      "-DCMAKE_SHARED_LINKER_FLAGS=-Wl,--as-needed")
 
 
+LAUNCH_DESCRIPTION = Path(__file__).with_name("ros2_launch_description.py")
 # a line of a generated parameter file: a node's fully qualified name, or a parameter and its value
 PARAMETER_FILE_LINE = re.compile(r"^(?:(/[\w/]+):|    (\w+): (.+))$")
 
@@ -79,6 +80,17 @@ class Installation:
         result = subprocess.run(self.colcon_build_command(), cwd=workspace, capture_output=True, text=True,
                                 env=self.environment(), timeout=1800)
         assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+
+    def launch_description(self, workspace: Path, launch_file: Path, **arguments: str) -> list[dict[str, Any]]:
+        """The nodes ``launch_file`` would start with ``name:=value`` arguments, as launch's own
+        loader evaluates it in ``workspace``'s environment, without starting them
+        (tests/support/ros2_launch_description.py)."""
+        request = {"launch_file": str(launch_file), "arguments": arguments}
+        result = subprocess.run([str(self.python), str(LAUNCH_DESCRIPTION)], input=json.dumps(request),
+                                capture_output=True, text=True, env=self.environment(workspace), timeout=120)
+        assert result.returncode == 0, f"{launch_file.name} {arguments}: {result.stderr[-3000:]}"
+        nodes: list[dict[str, Any]] = json.loads(result.stdout)["nodes"]
+        return nodes
 
     def colcon_build_command(self) -> list[str]:
         """colcon build with the flags of the README's `Use` section."""
