@@ -62,7 +62,10 @@ def composed(context: LaunchContext, description: ComposableNode, container: str
 
 def process(context: LaunchContext, node: Node) -> dict[str, Any]:
     node._perform_substitutions(context)  # what Node.execute does first, before it starts the process
-    return {"name": node.node_name, "container": None, "package": node.node_package,
+    name = node.node_name
+    if name.startswith(Node.UNSPECIFIED_NODE_NAMESPACE):  # no namespace given: the process runs in "/"
+        name = name[len(Node.UNSPECIFIED_NODE_NAMESPACE):]
+    return {"name": name, "container": None, "package": node.node_package,
             "executable": node.node_executable,
             "remappings": [list(rule) for rule in node.expanded_remapping_rules or ()],
             "parameters": parameters(context, node._Node__parameters)}
