@@ -375,7 +375,8 @@ def test_launch_loads_the_launch_file_with_the_links_of_the_model_and_the_agents
     nodes = jazzy.launch_description(built, launch_file, composed=composed, period="0.002")
     assert len(nodes) == LAUNCH_NODES - (3 if composed == "false" else 0)
     assert remap_problems(nodes, links) == []
-    paths = {values["path"]: name for name, values in node_parameters(share).items()}
+    parameters = node_parameters(share)
+    paths = {values["path"]: name for name, values in parameters.items()}
     assert sorted(n["name"] for n in subsystem_nodes(nodes)) == sorted(paths.values())
     assert sorted(paths) == sorted(sub.path for sub in model.subsystems)
     for node in subsystem_nodes(nodes):
@@ -383,6 +384,8 @@ def test_launch_loads_the_launch_file_with_the_links_of_the_model_and_the_agents
         assert node["parameters"] == [{"file": str(installed_parameter_file(built, agent))},
                                       {"values": {"period": 0.002}}], node
         assert node["container"] == (f"/{agent}/{agent}_container" if composed == "true" else None)
+        if composed == "true":  # what launch_ros sends the container: the node's section of the file, then period
+            assert node["loaded"] == {**parameters[str(node["name"])], "period": 0.002}
     unset = jazzy.launch_description(built, launch_file, composed=composed)
     assert all(len(n["parameters"]) == 1 for n in subsystem_nodes(unset))  # type: ignore[arg-type]
 

@@ -10,7 +10,8 @@ performs launch_ros's substitutions and prints JSON: ``{"nodes": [{"name": its f
 name, "package", "executable" (a composed node's plugin), "container": the fully qualified name of
 the container it is loaded into or null,
 "remappings": [[from, to]], "parameters": [{"file": path} | {"values": {name: value}}] in the
-order given}]}``.
+order given}]}``; a composed node also has ``"loaded"``: the values its container is sent, the
+files' and the overrides' merged by launch_ros for its name.
 
 launch_ros has no public getter for a container's composable node descriptions nor for a
 Node's parameters before it runs: those two are read from its attributes (Jazzy's names).
@@ -37,6 +38,7 @@ from launch_ros.actions import ComposableNodeContainer, Node
 from launch_ros.actions.load_composable_nodes import get_composable_node_load_request
 from launch_ros.descriptions import ComposableNode
 from launch_ros.utilities import evaluate_parameters
+from rclpy.parameter import parameter_value_to_python
 
 # actions that only change the context: executed
 CONTEXT_ACTIONS = (DeclareLaunchArgument, SetLaunchConfiguration, OpaqueFunction, GroupAction,
@@ -57,7 +59,8 @@ def composed(context: LaunchContext, description: ComposableNode, container: str
     return {"name": f"{request.node_namespace.rstrip('/')}/{request.node_name}", "container": container,
             "package": request.package_name, "executable": request.plugin_name,
             "remappings": [rule.split(":=", 1) for rule in request.remap_rules],
-            "parameters": parameters(context, description.parameters)}
+            "parameters": parameters(context, description.parameters),
+            "loaded": {p.name: parameter_value_to_python(p.value) for p in request.parameters}}
 
 
 def process(context: LaunchContext, node: Node) -> dict[str, Any]:
