@@ -20,6 +20,8 @@ from pathlib import Path
 import pytest
 
 from earl_m2t.api import load
+from earl_m2t.gen.errors import GenError
+from earl_m2t.gen.targets.ros2 import yaml_scalar
 from tests.support import ros2
 from tests.support.campaign import loaded_runs, long_runs
 from tests.support.load import cpu_hogs, run_until
@@ -31,6 +33,7 @@ USER = SAMPLE.parent / "user"
 # launch prefixes each line of a process with "[<process>] "
 STATE = re.compile(r"^(?:\[[^\]]+\] )?step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
+BRINGUP = "pick_and_place_bringup"
 PACKAGES = ["pick_and_place_bringup", "pick_and_place_grip_a", "pick_and_place_manip_a", "pick_and_place_msgs",
             "pick_and_place_task_a"]
 LAUNCH_TIMEOUT = 90.0  # s: start-up of 3 containers (or 17 processes) and the barrier, then about 1 s of script
@@ -55,13 +58,19 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     return ws, gen(ws / "src")
 
 
-def launch_agents(src: Path) -> list[tuple[str, str, list[tuple[str, str, str, str, dict[str, object],
-                                                                list[tuple[str, str]]]]]]:
-    """The AGENTS table of the generated launch file, read without importing launch."""
-    tree = ast.parse((src / "pick_and_place_bringup" / "launch" / "system.launch.py").read_text())
+def launch_agents(src: Path) -> list[tuple[str, str, str, list[tuple[str, str, str, str, list[tuple[str, str]]]]]]:
+    """The AGENTS table of the generated launch file, read without importing launch: (namespace,
+    container, parameter file, [(package, plugin, executable, node, remappings)])."""
+    tree = ast.parse((src / BRINGUP / "launch" / "system.launch.py").read_text())
     value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
                  and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
     return ast.literal_eval(value)
+
+
+def node_parameters(bringup: Path) -> dict[str, dict[str, object]]:
+    """The values of every agent's parameter file under ``bringup`` (its source or installed share), by node."""
+    return {node: values for path in sorted((bringup / "config").glob("*.yaml"))
+            for node, values in ros2.generated_parameters(path).items()}
 
 
 def snake(name: str) -> str:
@@ -109,17 +118,53 @@ def test_generation_is_deterministic_and_keeps_user_code(tmp_path: Path) -> None
 def test_the_remaps_of_the_launch_file_are_exactly_the_links_of_the_model(workspace: tuple[Path, str]) -> None:
     ws, _ = workspace
     model = load(str(SAMPLE)).model
+    parameters = node_parameters(ws / "src" / BRINGUP)
     remaps: dict[str, str] = {}
     paths = set()
-    for namespace, _, nodes in launch_agents(ws / "src"):
-        for _, _, _, name, parameters, remappings in nodes:
-            paths.add(parameters["path"])
+    for namespace, _, _, nodes in launch_agents(ws / "src"):
+        for _, _, _, name, remappings in nodes:
+            paths.add(parameters[f"/{namespace}/{name}"]["path"])
             for source, target in remappings:
                 assert source.startswith(f"/{namespace}/{name}/") and source not in remaps
                 remaps[source] = target
     assert len(model.links) == 32
     assert remaps == {topic(link.target): topic(link.source) for link in model.links}
     assert paths == {sub.path for sub in model.subsystems}
+
+
+def test_each_agent_has_a_parameter_file_with_the_values_of_its_nodes(workspace: tuple[Path, str]) -> None:
+    """config/<agent>.yaml of the bringup, named by the launch file's AGENTS: under each node's
+    fully qualified name its path, the defaults of [node] in target.toml, the size of the
+    system and a link count per buffer, in sorted order."""
+    ws, _ = workspace
+    bringup = ws / "src" / BRINGUP
+    model = load(str(SAMPLE)).model
+    agents = launch_agents(ws / "src")
+    assert [(namespace, parameter_file) for namespace, _, parameter_file, _ in agents] == [
+        (namespace, f"config/{namespace}.yaml") for namespace in ("manip_a", "grip_a", "task_a")]
+    for namespace, _, parameter_file, nodes in agents:
+        values = ros2.generated_parameters(bringup / parameter_file)
+        assert list(values) == [f"/{namespace}/{node[3]}" for node in nodes]
+        for node in values.values():
+            assert list(node) == sorted(node)
+            assert {k: node[k] for k in ("period", "non_finite", "quiet", "expected_nodes", "connect_timeout")} == {
+                "period": 0.01, "non_finite": "error", "quiet": False, "expected_nodes": 17, "connect_timeout": 10.0}
+    by_path = {values["path"]: values for values in node_parameters(bringup).values()}
+    assert sorted(by_path) == sorted(sub.path for sub in model.subsystems)
+    cs = by_path["manip/a.cs"]
+    assert cs["manipulator_command_ib_links"] == 1 and cs["motor_controller_state6_ib_links"] == 1
+    installs = (bringup / "CMakeLists.txt").read_text()
+    for _, _, parameter_file, _ in agents:
+        assert f"install(FILES {parameter_file} DESTINATION share/${{PROJECT_NAME}}/config)" in installs
+
+
+def test_a_parameter_value_is_a_yaml_scalar_of_its_own_type() -> None:
+    """Strings double-quoted with YAML's escapes, floats with a point (PyYAML reads 1e-06 as a string)."""
+    assert [yaml_scalar(v) for v in (True, 17, 10.0, 1e-06, 2.5e20)] == ["true", "17", "10.0", "1.0e-06", "2.5e+20"]
+    assert yaml_scalar("true") == '"true"' and yaml_scalar("manip/a.cs") == '"manip/a.cs"'
+    assert yaml_scalar('a"b\\c\td\x85e\u2028é') == '"a\\"b\\\\c\\td\\u0085e\\u2028é"'
+    with pytest.raises(GenError):
+        yaml_scalar(float("nan"))
 
 
 def test_qos_follows_the_receive_modes(workspace: tuple[Path, str]) -> None:
@@ -254,6 +299,107 @@ def test_a_parameter_outside_its_declared_range_is_refused(built: Path, jazzy: r
         subprocess.run([str(node), "--ros-args", "-p", "period:=0.5"], capture_output=True, env=env, timeout=3)
 
 
+def installed_parameter_file(built: Path, agent: str) -> Path:
+    return built / "install" / BRINGUP / "share" / BRINGUP / "config" / f"{agent}.yaml"
+
+
+def edited_parameter_file(built: Path, tmp_path: Path, old: str, new: str) -> Path:
+    """A copy of manip/a's installed parameter file with the line ``old`` of every node made ``new``."""
+    text = installed_parameter_file(built, "manip_a").read_text()
+    assert f"\n    {old}\n" in text
+    edited = tmp_path / "manip_a.yaml"
+    edited.write_text(text.replace(f"\n    {old}\n", f"\n    {new}\n"))
+    return edited
+
+
+def test_a_value_outside_its_range_in_the_parameter_file_is_refused(built: Path, jazzy: ros2.Installation,
+                                                                     tmp_path: Path) -> None:
+    """rclcpp checks the values of a parameter file against the declared ranges too: manip/a.cs
+    given its agent's file with a negative period does not start."""
+    node = built / "install" / "pick_and_place_manip_a" / "lib" / "pick_and_place_manip_a" / "cs_node"
+    edited = edited_parameter_file(built, tmp_path, "period: 0.01", "period: -1.0")
+    env = jazzy.environment(built, domain_id=random.randint(101, 200))
+    result = subprocess.run([str(node), "--ros-args", "-r", "__ns:=/manip_a", "--params-file", str(edited)],
+                            capture_output=True, text=True, env=env, timeout=60)
+    assert result.returncode != 0
+    assert "doesn't comply with floating point range" in result.stdout + result.stderr, result.stderr
+
+
+def test_a_value_of_the_parameter_file_is_the_one_the_node_uses(built: Path, jazzy: ros2.Installation,
+                                                               tmp_path: Path) -> None:
+    """manip/a.cs started alone waits connect_timeout for its links and the 16 other nodes
+    (expected_nodes, from the file): 10 s with the installed file, no time at all with a copy
+    that says 0, and it enters idle at once."""
+    node = built / "install" / "pick_and_place_manip_a" / "lib" / "pick_and_place_manip_a" / "cs_node"
+    edited = edited_parameter_file(built, tmp_path, "connect_timeout: 10.0", "connect_timeout: 0.0")
+    env = jazzy.environment(built, domain_id=random.randint(101, 200))
+    env.update(ROS_LOG_DIR=str(tmp_path / "log"), PICK_AND_PLACE_QUIET="1")
+    lines, started = run_until([node, "--ros-args", "-r", "__ns:=/manip_a", "--params-file", str(edited),
+                                "-p", "autostart:=true"], lambda out: manip_states(out)[:1] == ["idle"], 8.0, env)
+    assert started, "\n".join(lines[-20:])
+
+
+LAUNCH_NODES = 17 + 3 + 1  # the subsystems' nodes, 3 containers when composed, the lifecycle manager
+
+
+def subsystem_nodes(nodes: list[dict[str, object]]) -> list[dict[str, object]]:
+    return [n for n in nodes if n["package"] not in ("rclcpp_components", BRINGUP)]
+
+
+def remap_problems(nodes: list[dict[str, object]], links: dict[str, str]) -> list[str]:
+    """How the remappings launch gives the nodes differ from the model's links (input's topic ->
+    output's topic), each remap in the namespace of its node."""
+    problems = []
+    remaps: dict[str, str] = {}
+    for node in subsystem_nodes(nodes):
+        for source, target in node["remappings"]:  # type: ignore[attr-defined]
+            if not source.startswith(f"{node['name']}/") or source in remaps:
+                problems.append(f"{node['name']}: remaps {source} again or from another node")
+            remaps[source] = target
+    problems += [f"link {s} -> {t} not remapped" for s, t in links.items() if remaps.get(s) != t]
+    problems += [f"remap {s} -> {t} is no link" for s, t in remaps.items() if links.get(s) != t]
+    return problems
+
+
+@pytest.mark.parametrize("composed", ["true", "false"])
+def test_launch_loads_the_launch_file_with_the_links_of_the_model_and_the_agents_parameter_files(
+        built: Path, jazzy: ros2.Installation, tmp_path: Path, composed: str) -> None:
+    """system.launch.py as launch's own loader evaluates it (tests/support/ros2_launch_description.py):
+    the remaps are exactly the model's links, every subsystem is one node, which gets its agent's
+    installed parameter file first and then period:= as an override (and no override without
+    it), composed in its agent's container or a process of its own. A copy of the launch file
+    without one remap is reported."""
+    model = load(str(SAMPLE)).model
+    links = {topic(link.target): topic(link.source) for link in model.links}
+    share = built / "install" / BRINGUP / "share" / BRINGUP
+    launch_file = share / "launch" / "system.launch.py"
+    nodes = jazzy.launch_description(built, launch_file, composed=composed, period="0.002")
+    assert len(nodes) == LAUNCH_NODES - (3 if composed == "false" else 0)
+    assert remap_problems(nodes, links) == []
+    parameters = node_parameters(share)
+    paths = {values["path"]: name for name, values in parameters.items()}
+    assert sorted(n["name"] for n in subsystem_nodes(nodes)) == sorted(paths.values())
+    assert sorted(paths) == sorted(sub.path for sub in model.subsystems)
+    for node in subsystem_nodes(nodes):
+        agent = str(node["name"]).split("/")[1]
+        assert node["parameters"] == [{"file": str(installed_parameter_file(built, agent))},
+                                      {"values": {"period": 0.002}}], node
+        assert node["container"] == (f"/{agent}/{agent}_container" if composed == "true" else None)
+        if composed == "true":  # what launch_ros sends the container: the node's section of the file, then period
+            assert node["loaded"] == {**parameters[str(node["name"])], "period": 0.002}
+    unset = jazzy.launch_description(built, launch_file, composed=composed)
+    assert all(len(n["parameters"]) == 1 for n in subsystem_nodes(unset))  # type: ignore[arg-type]
+
+    # the comparison can fail: a copy of the launch file without the remap of manip/a.cs's commands
+    remap = '("/manip_a/cs/manipulator_command_ib", "/task_a/cs/manipulator_command_ob")'
+    text = launch_file.read_text()
+    edited = tmp_path / "system.launch.py"
+    edited.write_text(text.replace(", " + remap, "").replace(remap + ", ", ""))
+    assert edited.read_text() != text
+    assert remap_problems(jazzy.launch_description(built, edited, composed=composed), links) == [
+        "link /manip_a/cs/manipulator_command_ib -> /task_a/cs/manipulator_command_ob not remapped"]
+
+
 GRAPH = ROOT / "tests" / "support" / "ros2_graph.py"
 # what discovery tells of a remote endpoint's QoS: reliability and durability (its history and
 # depth stay local, "unknown" in the graph; test_qos_follows_the_receive_modes reads them)
@@ -269,8 +415,7 @@ def test_the_running_graph_subscribes_each_input_to_its_link_with_the_qos_of_its
     topic for the last value (transient local, which the publisher does not offer) is refused
     as incompatible: the check this test makes can fail."""
     model = load(str(SAMPLE)).model
-    nodes = {parameters["path"]: f"/{namespace}/{name}" for namespace, _, entries in launch_agents(built / "src")
-             for _, _, _, name, parameters, _ in entries}
+    nodes = {values["path"]: node for node, values in node_parameters(built / "src" / BRINGUP).items()}
     inputs = {b.path: b for sub in model.subsystems for b in sub.inputs}
     expected: dict[str, list[tuple[str, dict[str, object]]]] = {}
     for link in model.links:

@@ -68,13 +68,13 @@ def launch_agents(path: Path) -> list[str]:
     tree = ast.parse(path.read_text())
     value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
                  and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
-    return [namespace for namespace, _, _ in ast.literal_eval(value)]
+    return [namespace for namespace, _, _, _ in ast.literal_eval(value)]
 
 
-def expected_nodes(path: Path) -> int:
-    found = re.search(r"^EXPECTED_NODES = (\d+)$", path.read_text(), re.MULTILINE)
-    assert found, path
-    return int(found.group(1))
+def expected_nodes(bringup: Path) -> set[object]:
+    """The expected_nodes of every node in the agents' parameter files, which every host's launch file passes."""
+    return {values["expected_nodes"] for path in (bringup / "config").glob("*.yaml")
+            for values in ros2.generated_parameters(path).values()}
 
 
 def manip_states(lines: list[str]) -> list[str]:
@@ -103,9 +103,8 @@ def test_a_launch_file_per_host_starts_its_agents_and_waits_for_the_whole_system
     for host, agents in AGENTS_ON.items():
         text = (launch / f"{host}.launch.py").read_text()
         assert launch_agents(launch / f"{host}.launch.py") == agents
-        assert expected_nodes(launch / f"{host}.launch.py") == NODES
         assert f'name="earl_lifecycle_manager_{host}"' in text
-    assert expected_nodes(launch / "system.launch.py") == NODES
+    assert expected_nodes(workspace / "src" / BRINGUP) == {NODES}
     assert 'name="earl_lifecycle_manager"' in (launch / "system.launch.py").read_text()
 
 
@@ -173,6 +172,32 @@ def jazzy() -> ros2.Installation:
 def built(workspace: Path, jazzy: ros2.Installation) -> Path:
     jazzy.colcon_build(workspace)
     return workspace
+
+
+@pytest.mark.parametrize("composed", ["true", "false"])
+def test_launch_splits_the_nodes_of_the_system_launch_between_the_host_launch_files(
+        built: Path, jazzy: ros2.Installation, composed: str) -> None:
+    """Each launch file as launch's own loader evaluates it (tests/support/ros2_launch_description.py):
+    every node of system.launch.py is started by exactly one host's launch file, the one of its
+    agent, with the same remappings and parameters; each host has a lifecycle manager of its own."""
+    launch = built / "install" / BRINGUP / "share" / BRINGUP / "launch"
+    system = {n["name"]: n for n in jazzy.launch_description(built, launch / "system.launch.py", composed=composed)}
+    assert "/earl_lifecycle_manager" in system
+    on: dict[str, dict[str, dict[str, object]]] = {}
+    for host in AGENTS_ON:
+        nodes = jazzy.launch_description(built, launch / f"{host}.launch.py", composed=composed)
+        on[host] = {n["name"]: n for n in nodes}
+        assert len(on[host]) == len(nodes)
+        assert f"/earl_lifecycle_manager_{host}" in on[host]
+        subsystems = {name for name in on[host] if not name.startswith("/earl_lifecycle_manager")}
+        assert {name.split("/")[1] for name in subsystems} == set(AGENTS_ON[host])
+        assert len([name for name in subsystems if not name.endswith("_container")]) == NODES_ON[host]
+    started = [name for nodes in on.values() for name in nodes if not name.startswith("/earl_lifecycle_manager")]
+    assert sorted(started) == sorted(name for name in system if name != "/earl_lifecycle_manager")
+    for nodes in on.values():
+        for name, node in nodes.items():
+            if not name.startswith("/earl_lifecycle_manager"):
+                assert node == system[name]
 
 
 def ip(*args: str) -> None:

@@ -17,13 +17,16 @@ from __future__ import annotations
 
 import fcntl
 import hashlib
+import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[2]
 VENDOR = ROOT.parent / "shared" / "vendor" / "ros2"
@@ -32,6 +35,11 @@ LOG_TAIL_LINES = 40
 COLCON_CMAKE_ARGS = ("-DCMAKE_BUILD_TYPE=None", "-DCMAKE_C_FLAGS=-O0 -g0", "-DCMAKE_CXX_FLAGS=-O0 -g0",
                      "-DBUILD_TESTING=OFF", "-DCMAKE_EXE_LINKER_FLAGS=-Wl,--as-needed,--allow-shlib-undefined",
                      "-DCMAKE_SHARED_LINKER_FLAGS=-Wl,--as-needed")
+
+
+LAUNCH_DESCRIPTION = Path(__file__).with_name("ros2_launch_description.py")
+# a line of a generated parameter file: a node's fully qualified name, or a parameter and its value
+PARAMETER_FILE_LINE = re.compile(r"^(?:(/[\w/]+):|    (\w+): (.+))$")
 
 
 class Ros2Unavailable(Exception):
@@ -73,10 +81,37 @@ class Installation:
                                 env=self.environment(), timeout=1800)
         assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
 
+    def launch_description(self, workspace: Path, launch_file: Path, **arguments: str) -> list[dict[str, Any]]:
+        """The nodes ``launch_file`` would start with ``name:=value`` arguments, as launch's own
+        loader evaluates it in ``workspace``'s environment, without starting them
+        (tests/support/ros2_launch_description.py)."""
+        request = {"launch_file": str(launch_file), "arguments": arguments}
+        result = subprocess.run([str(self.python), str(LAUNCH_DESCRIPTION)], input=json.dumps(request),
+                                capture_output=True, text=True, env=self.environment(workspace), timeout=120)
+        assert result.returncode == 0, f"{launch_file.name} {arguments}: {result.stderr[-3000:]}"
+        nodes: list[dict[str, Any]] = json.loads(result.stdout)["nodes"]
+        return nodes
+
     def colcon_build_command(self) -> list[str]:
         """colcon build with the flags of the README's `Use` section."""
         return ["colcon", "build", "--event-handlers", "console_direct-", "console_stderr+",
                 "--cmake-args", *COLCON_CMAKE_ARGS, f"-DPython3_EXECUTABLE={self.python}"]
+
+
+def generated_parameters(path: Path) -> dict[str, dict[str, Any]]:
+    """A parameter file gen wrote (``config/<agent>.yaml``), by node: the values of its
+    ``ros__parameters``. Reads only the layout gen writes (each scalar one JSON value), so that
+    the tests need no YAML library; launch_ros reads it with PyYAML and the nodes with rcl."""
+    nodes: dict[str, dict[str, Any]] = {}
+    for line in path.read_text(encoding="utf-8").splitlines():
+        found = PARAMETER_FILE_LINE.match(line)
+        if found and found.group(1):
+            nodes[found.group(1)] = {}
+        elif found:
+            nodes[next(reversed(nodes))][found.group(2)] = json.loads(found.group(3))
+        else:
+            assert line.startswith("#") or line == "  ros__parameters:", f"{path.name}: {line!r}"
+    return nodes
 
 
 def is_usable(prefix: Path) -> bool:

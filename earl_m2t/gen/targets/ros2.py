@@ -7,6 +7,10 @@ headers under ``earl/`` and its user files. Its view starts from the ``ros`` tar
 
 from __future__ import annotations
 
+import json
+import math
+import unicodedata
+
 from earl_m2t.gen.engine import load_target
 from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.errors import GenError
@@ -23,10 +27,38 @@ def _ros2_view(views: Views) -> Ros2View:
 VIEW = View("ros2", _ros2_view)
 
 
+def _yaml_char(char: str) -> str:
+    """A character of a double-quoted YAML scalar: itself when YAML may print it, else escaped."""
+    code = ord(char)
+    printable = 0x20 <= code <= 0x7E or (code >= 0xA0 and char not in "\u2028\u2029\ufeff"
+                                          and unicodedata.category(char) not in ("Cs", "Co", "Cn"))
+    if printable:
+        return char
+    return f"\\u{code:04x}" if code <= 0xFFFF else f"\\U{code:08x}"
+
+
+def yaml_scalar(value: object) -> str:
+    """A value as a YAML scalar of its own type, read alike by rcl's parameter parser and by
+    PyYAML (launch_ros reads the file for composed nodes): a string double-quoted (so that
+    ``true`` or ``1`` stays a string; JSON's escapes are YAML's), a float always with a point
+    (PyYAML reads ``1e-06`` as a string)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float) and math.isfinite(value):
+        mantissa, e, exponent = repr(value).partition("e")
+        return (mantissa if "." in mantissa else mantissa + ".0") + e + exponent
+    if isinstance(value, str):
+        return "".join(map(_yaml_char, json.dumps(value, ensure_ascii=False)))
+    raise GenError(f"no YAML scalar for the parameter value {value!r}")
+
+
 def _render(run: TargetRun) -> Rendered:
     cpp_files = cpp.RENDERER.render(run.for_target("cpp"))
     view = run.views.get(VIEW)
     env = run.environment()
+    env.filters["yaml"] = yaml_scalar
     generated = cpp.runtime_and_headers(cpp_files, "earl/")
     system, groups = view.system, run.spec["templates"]
     for message in view.messages:
@@ -48,7 +80,8 @@ def _render(run: TargetRun) -> Rendered:
                      render_template(env, template, system=system, convert=view.convert, launch=launch))
     for package in view.packages:
         for template, pattern in sorted(groups["agent"].items()):
-            put_file(generated, pattern.format(package=package["name"], **names),
+            put_file(generated, pattern.format(package=package["name"], parameter_file=package["parameter_file"],
+                                               **names),
                      render_template(env, template, system=system, package=package))
     for component in view.components:
         for template, pattern in sorted(groups["node"].items()):

@@ -21,6 +21,7 @@ which rosidl would read as a unit annotation (``q: Real[6]`` is written ``q: Rea
 
 from __future__ import annotations
 
+import posixpath
 import re
 from dataclasses import dataclass
 from typing import Any
@@ -61,6 +62,9 @@ class Ros2Target:
     qos: dict[str, Data]  # "latest" / "queue" -> reliability, durability, history, depth
     parameters: dict[str, Data]  # a declared parameter -> its min, max and description
     default_host: str = "default_host"  # the host of the agents without the tag host
+    parameter_file: str = "config/{agent}.yaml"  # an agent's parameter file, in the bringup package
+    non_finite: str = "error"  # the value of every node's non_finite in the parameter files
+    quiet: bool = False  # the value of every node's quiet in the parameter files
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> Ros2Target:
@@ -71,7 +75,10 @@ class Ros2Target:
                    manager=str(spec.get("manager", "earl_lifecycle_manager")),
                    connect_timeout=float(spec.get("node", {}).get("connect_timeout", 10.0)), qos=qos,
                    parameters={name: dict(value) for name, value in sorted(spec["parameters"].items())},
-                   default_host=str(spec.get("default_host", "default_host")))
+                   default_host=str(spec.get("default_host", "default_host")),
+                   parameter_file=str(spec.get("parameter_file", "config/{agent}.yaml")),
+                   non_finite=str(spec.get("node", {}).get("non_finite", "error")),
+                   quiet=bool(spec.get("node", {}).get("quiet", False)))
 
 
 @dataclass
@@ -131,10 +138,13 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
         plugin_of[(node["package"], node["exe"])] = components[-1]["plugin"]
     packages = []
     for package in ros.packages:
-        instances = [{**i, "plugin": plugin_of[(i["pkg"], i["type"])]} for i in package["instances"]]
+        instances = [{**i, "plugin": plugin_of[(i["pkg"], i["type"])], "fqn": f"/{i['ns']}/{i['name']}",
+                      "parameters": _node_parameters(i, ros.system, target)} for i in package["instances"]]
+        parameter_file = target.parameter_file.format(agent=package["ns"])
         packages.append({**package, "library": package["name"] + target.library_suffix,
                          "components": [c for c in components if c["package"] == package["name"]],
-                         "instances": instances})
+                         "instances": instances, "parameter_file": parameter_file,
+                         "parameter_dir": posixpath.dirname(parameter_file)})
     system = {**ros.system, "agents": packages, "ready_topic": target.ready_topic, "manager": target.manager,
               "connect_timeout": target.connect_timeout}
     structs = []
@@ -146,6 +156,16 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
     launch = {"host": "", "agents": packages, "manager_node": target.manager}
     return Ros2View(system=system, packages=packages, components=components, convert=convert,
                     messages=ros2_messages(msgs), launch=launch, hosts=_hosts(model, packages, target))
+
+
+def _node_parameters(instance: Data, system: Data, target: Ros2Target) -> list[tuple[str, Any]]:
+    """(name, value) of the parameters a node gets from its agent's parameter file, sorted by
+    name: every parameter it declares but autostart (which the lifecycle manager replaces)."""
+    values: dict[str, Any] = {"path": instance["path"], "period": float(system["period"]),
+                              "non_finite": target.non_finite, "quiet": target.quiet,
+                              "expected_nodes": int(system["nodes"]), "connect_timeout": target.connect_timeout}
+    values.update((f"{name}_links", count) for name, count in instance["links"])
+    return sorted(values.items())
 
 
 def _hosts(model: EarlModel, packages: list[Data], target: Ros2Target) -> list[Data]:
