@@ -7,8 +7,8 @@ from collections.abc import Iterator
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.check.tables import permitted_links
 from earl_m2t.model.elements import Buffer, EarlModel, Link
-from earl_m2t.model.kinds import ReceiveMode, Reliability
 from earl_m2t.model.graph import subsystem_graph
+from earl_m2t.model.kinds import ReceiveMode, Reliability
 from earl_m2t.model.typecompare import structural_difference
 
 
