@@ -34,3 +34,18 @@ def test_a_queue_fed_by_a_best_effort_output_is_reported_at_its_link(sample_byte
     assert found == ["C010 link task/a,manip/a (task/a.cs.manipulatorCommand/ob → manip/a.cs.manipulatorCommand/ib): "
                      "the Input Buffer receives a queue, which loses no value silently, but the Output Buffer is "
                      "best_effort; make it reliable (tag reliability)"]
+
+
+def test_a_queued_best_effort_input_that_no_link_feeds_is_reported_at_the_buffer(sample_bytes: bytes,
+                                                                                  tmp_path: Path) -> None:
+    sample = Sample(sample_bytes)
+    sample.remove(sample.connector("PickAndPlaceSystem", "task/a,manip/a"))
+    sample.application("InputBuffer", sample.attribute("ManipulatorControl", "manipulatorCommand/ib")).set(
+        "reliability", "best_effort")
+    path = tmp_path / "variant.uml"
+    path.write_bytes(sample.to_bytes())
+    found = [d for d in check(path) if d.code == "C010"]
+    assert [(d.message, d.location.xmi_id) for d in found] == [
+        ("Input Buffer manip/a.cs.manipulatorCommand/ib receives a queue, which loses no value silently, but is "
+         "best_effort; make it reliable (tag reliability)",
+         sample.id(sample.attribute("ManipulatorControl", "manipulatorCommand/ib")))]
