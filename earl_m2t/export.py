@@ -136,7 +136,11 @@ def _buffer(buf: Buffer | Memory) -> dict[str, Any]:
 
 
 def _input(buf: Buffer) -> dict[str, Any]:
-    return {**_buffer(buf), "receive": buf.receive, "queue_size": buf.queue_size if buf.receive == "queue" else None}
+    return {**_output(buf), "receive": buf.receive, "queue_size": buf.queue_size if buf.receive == "queue" else None}
+
+
+def _output(buf: Buffer) -> dict[str, Any]:
+    return {**_buffer(buf), **({"reliability": buf.reliability} if buf.reliability != "reliable" else {})}
 
 
 def _activation(activation: Activation) -> dict[str, Any]:
@@ -159,7 +163,7 @@ def _subsystem(sub: Subsystem) -> dict[str, Any]:
         "recognised_by": sub.recognised_by,
         **_where(sub.location),
         "inputs": [_input(b) for b in sub.inputs],
-        "outputs": [_buffer(b) for b in sub.outputs],
+        "outputs": [_output(b) for b in sub.outputs],
         "memory": [_buffer(m) for m in sub.memory],
         "fsm": _fsm(sub.fsm) if sub.fsm is not None else None,
         "behaviours": [_behaviour(b) for b in sub.behaviours],

@@ -110,6 +110,7 @@ TABLE_ROWS: dict[str, str] = {
     "`leaving()`": "variable-structure.uml",
     "reactivation": "variable-structure.uml",
     "host": "inter-agent-links.uml",
+    "reliability": "inter-agent-links.uml",
     "switch timeout": "variable-structure.uml",
     "variable agent": "variable-structure.uml",
     "coordinator state": "variable-structure.uml",
@@ -387,6 +388,13 @@ def test_inter_agent_links_join_control_subsystems_through_nested_connector_ends
     assert back.ends == ("task/a.cs.manipulatorState/ib", "manip/a.cs.manipulatorState/ob")
     assert (back.source, back.target) == ("manip/a.cs.manipulatorState/ob", "task/a.cs.manipulatorState/ib")
     assert {a.name: a.computed_type for a in model.agents} == {"manip/a": "CT", "task/a": "CT"}
+
+
+def test_a_link_may_drop_values_where_both_its_buffers_are_best_effort() -> None:
+    model = lifted("inter-agent-links.uml")
+    dropping = {b.path: b.reliability for sub in model.subsystems for b in sub.inputs + sub.outputs
+                if b.reliability != "reliable"}
+    assert dropping == {"manip/a.cs.status/ob": "best_effort", "task/a.cs.status/ib": "best_effort"}
 
 
 def test_a_link_named_off_the_convention_is_reported_as_information_only() -> None:

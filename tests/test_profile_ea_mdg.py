@@ -71,6 +71,9 @@ def test_the_tags_carry_their_types_literals_and_defaults(mdg: etree._Element) -
     receive = {t.get("name"): t for t in found["InputBuffer"].iter("Tag")}
     assert (receive["receive"].get("values"), receive["receive"].get("default")) == ("latest,queue", "latest")
     assert (receive["queueSize"].get("type"), receive["queueSize"].get("default")) == ("int", "0")
+    for concept in ("InputBuffer", "OutputBuffer"):
+        reliability = {t.get("name"): t for t in found[concept].iter("Tag")}["reliability"]
+        assert (reliability.get("values"), reliability.get("default")) == ("reliable,best_effort", "reliable")
     priority = found["FsmTransition"].find("TaggedValues/Tag")
     assert (priority.get("name"), priority.get("type"), priority.get("default")) == ("priority", "int", "0")
 

@@ -18,15 +18,16 @@ def receive_tags(buffer: Buffer) -> list[str]:
 
 
 def buffer_tags(buffer: Buffer, concept: str) -> list[str]:
-    """``@Receive { … }``, or with FABRIC's side, converter and channel ``@InputBuffer { … }``
-    / ``@OutputBuffer { … }``, of a buffer port."""
-    fabric = [f"{tag} = {string_literal(value)};" for tag, value in (
+    """``@Receive { … }``, or with a reliability that is not EARL's default or FABRIC's side,
+    converter and channel ``@InputBuffer { … }`` / ``@OutputBuffer { … }``, of a buffer port."""
+    others = [f"reliability = Reliability::{buffer.reliability};"] if buffer.reliability != "reliable" else []
+    others += [f"{tag} = {string_literal(value)};" for tag, value in (
         ("side", buffer.side), ("converter", buffer.converter), ("channel", buffer.channel)) if value]
     receive = receive_tags(buffer)
-    if not fabric:
+    if not others:
         return receive
     tags = ([f"receive = ReceiveMode::{buffer.receive};", f"queueSize = {buffer.queue_size};"] if receive else [])
-    return [f"@{concept} {{ {' '.join(tags + fabric)} }}"]
+    return [f"@{concept} {{ {' '.join(tags + others)} }}"]
 
 
 def simulation_tags(simulation: Simulation | None, concept: str) -> list[str]:

@@ -1,5 +1,6 @@
-"""Lifting activation (FABRIC's buffer groups): how an Input Buffer receives, the buffer groups
-of a subsystem and the activation of each FSM state, all read from stereotype tags.
+"""Lifting activation (FABRIC's buffer groups): how an Input Buffer receives, how reliable a
+buffer's link is, the buffer groups of a subsystem and the activation of each FSM state, all
+read from stereotype tags.
 
 Values the lift cannot read are kept recognisably wrong (an unknown receive mode as written, a
 number as NaN, a queue size as -1) so that rule B011 reports them with their element.
@@ -10,7 +11,7 @@ from __future__ import annotations
 from earl_m2t.lift.recognise import Recogniser
 from earl_m2t.lift.tags import flag, literal, names, seconds, tag
 from earl_m2t.model.elements import Activation, BufferGroup, Simulation
-from earl_m2t.model.kinds import RECEIVE_MODES, ReceiveMode
+from earl_m2t.model.kinds import RECEIVE_MODES, RELIABILITIES, ReceiveMode, Reliability
 from earl_m2t.read.xmi import Element, RawModel
 
 
@@ -25,6 +26,14 @@ def receive_of(raw: RawModel, tags: dict[str, str]) -> tuple[str, int]:
     except ValueError:
         size = -1
     return next((known for known in RECEIVE_MODES if known == receive), receive), size
+
+
+def reliability_of(raw: RawModel, tags: dict[str, str]) -> str:
+    """A buffer's reliability: ``RELIABLE`` unless tagged; a value that is none is kept as
+    written (rule B011)."""
+    written = tag(tags, "reliability")
+    value = (literal(raw, written) if written else "") or Reliability.RELIABLE
+    return next((known for known in RELIABILITIES if known == value), value)
 
 
 def activation_of(tags: dict[str, str]) -> Activation:

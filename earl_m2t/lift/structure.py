@@ -6,7 +6,7 @@ from dataclasses import replace
 from functools import partial
 
 from earl_m2t.diagnostics import Diagnostic, Severity
-from earl_m2t.lift.activation import buffer_groups, receive_of, simulation_of
+from earl_m2t.lift.activation import buffer_groups, receive_of, reliability_of, simulation_of
 from earl_m2t.lift.behaviour import BehaviourContext, BehaviourLifter
 from earl_m2t.lift.conditions import ConditionLifter
 from earl_m2t.lift.datatypes import DataTypeLifter
@@ -285,7 +285,7 @@ class StructureLifter:
                 buffers = [
                     Buffer(inst, f"{path}.{inst}", direction, datatype, attr_name, k, raw.location(attr),
                            recognition.route, unresolved, receive, queue_size, tag(tags, "side") or "",
-                           tag(tags, "converter") or "", tag(tags, "channel") or "")
+                           tag(tags, "converter") or "", tag(tags, "channel") or "", reliability_of(raw, tags))
                     for inst, k in expand(attr_name, count)
                 ]
                 ports[id(attr)] = buffers

@@ -23,6 +23,7 @@ from earl_m2t.model.kinds import (
     LinkScope,
     Reactivation,
     ReceiveMode,
+    Reliability,
     SubsystemKind,
 )
 from earl_m2t.model.location import Location
@@ -48,6 +49,9 @@ class Buffer:
     side: str = ""
     converter: str = ""
     channel: str = ""  # FABRIC's IPC channel of the buffer (<io_buffer name>, tag channel)
+    # whether its link may drop values: a Reliability, or the tag's value as written (B011); C010
+    # reports links whose two ends disagree
+    reliability: str = Reliability.RELIABLE
 
     @property
     def abbreviation(self) -> str:

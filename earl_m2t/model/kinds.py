@@ -28,6 +28,14 @@ class ReceiveMode(StrEnum):
     QUEUE = "queue"  # keeps up to queueSize values in arrival order and reports an overflow
 
 
+class Reliability(StrEnum):
+    """What a buffer's link may do with its values (its tag ``reliability``; another value is
+    kept as written for B011)."""
+
+    RELIABLE = "reliable"  # every value is delivered (EARL's default)
+    BEST_EFFORT = "best_effort"  # the transport may drop values (ROS 2: a best-effort publisher or subscription)
+
+
 class LinkScope(StrEnum):
     AGENT = "agent"  # an inter-subsystem link, inside one agent
     SYSTEM = "system"  # an inter-agent link
@@ -59,4 +67,5 @@ class DataTypeKind(StrEnum):
 
 SUBSYSTEM_KINDS = tuple(SubsystemKind)
 RECEIVE_MODES = tuple(ReceiveMode)
+RELIABILITIES = tuple(Reliability)
 REACTIVATIONS = tuple(Reactivation)

@@ -73,9 +73,11 @@ def _subsystem(instances: list[Subsystem]) -> list[str]:
     out = [f"    {sub.kind} {name} [{sub.block}]"]
     ind = "      "
     for buf in _unique_templates(sub.inputs):
-        out.append(f"{ind}ib {buf.template}{_count(sub.inputs, buf.template)} : {buf.datatype or '?'}{_receive(buf)}")
+        out.append(f"{ind}ib {buf.template}{_count(sub.inputs, buf.template)} : {buf.datatype or '?'}"
+                   f"{_receive(buf)}{_reliability(buf)}")
     for buf in _unique_templates(sub.outputs):
-        out.append(f"{ind}ob {buf.template}{_count(sub.outputs, buf.template)} : {buf.datatype or '?'}")
+        out.append(f"{ind}ob {buf.template}{_count(sub.outputs, buf.template)} : {buf.datatype or '?'}"
+                   f"{_reliability(buf)}")
     for mem in _unique_templates(sub.memory):
         out.append(f"{ind}m  {mem.template}{_count(sub.memory, mem.template)} : {mem.datatype or '?'}")
     if sub.fsm is not None:
@@ -141,6 +143,11 @@ def _receive(buffer: Buffer) -> str:
     if buffer.receive == "queue":
         return f"  receive queue of {buffer.queue_size}"
     return "" if buffer.receive == "latest" else f"  receive {buffer.receive}"
+
+
+def _reliability(buffer: Buffer) -> str:
+    """``  best_effort`` for a buffer whose link may drop values; nothing for EARL's default."""
+    return "" if buffer.reliability == "reliable" else f"  {buffer.reliability}"
 
 
 def seconds(value: float) -> str:

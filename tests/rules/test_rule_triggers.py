@@ -547,6 +547,23 @@ def link_name_convention(s: Sample) -> Expect:
     return Expect(s.id(connector), "gripperCommand")
 
 
+def best_effort_into_reliable(s: Sample) -> Expect:
+    """C010: FingerMotor's encoder/ob is best_effort; the link fingerMotor/re,fingerController/ve
+    ends in FingerController's reliable encoder/ib, a pair DDS never matches."""
+    s.application("OutputBuffer", s.attribute("FingerMotor", "encoder/ob")).set("reliability", "best_effort")
+    connector = s.connector("GripperAgent", "fingerMotor/re,fingerController/ve")
+    return Expect(s.id(connector), "grip/a.fingerMotor/re.encoder/ob → grip/a.fingerController/ve.encoder/ib")
+
+
+def queue_best_effort(s: Sample) -> Expect:
+    """C010: ManipulatorControl's queued manipulatorCommand/ib is best_effort, which a queue
+    that loses no value silently cannot be."""
+    s.application("InputBuffer", s.attribute("ManipulatorControl", "manipulatorCommand/ib")).set(
+        "reliability", "best_effort")
+    connector = s.connector("PickAndPlaceSystem", "task/a,manip/a")
+    return Expect(s.id(connector), "manip/a.cs.manipulatorCommand/ib")
+
+
 # ---- B: FSMs and conditions -------------------------------------------------------------
 
 
@@ -778,6 +795,13 @@ def negative_timeout(s: Sample) -> Expect:
     state = s.state("ManipulatorControl", "jointMove")
     s.application("FsmState", state).set("nextTimeout", "-0.02")
     return Expect(s.id(state), "nextTimeout")
+
+
+def reliability_unknown(s: Sample) -> Expect:
+    """B011: TaskControl's gripperCommand/ob has the reliability 'lossy', neither reliable nor best_effort."""
+    port = s.attribute("TaskControl", "gripperCommand/ob")
+    s.application("OutputBuffer", port).set("reliability", "lossy")
+    return Expect(s.id(port), "'lossy'")
 
 
 def error_condition_reads_in_error(s: Sample) -> Expect:
@@ -1192,6 +1216,8 @@ VARIANTS: dict[str, Mutation] = {
     "C007": input_buffer_unfed,
     "C008": link_name_convention,
     "C009": one_shot_command_into_latest_value,
+    "C010": best_effort_into_reliable,
+    "C010-queue": queue_best_effort,
     "B001": fsm_without_initial_state,
     "B001-initial-leads-nowhere": initial_pseudostate_leads_nowhere,
     "B001-two-initial": fsm_with_two_initial_states,
@@ -1219,6 +1245,7 @@ VARIANTS: dict[str, Mutation] = {
     "B010-unknown-group": state_names_unknown_buffer_group,
     "B011": queue_of_no_value,
     "B011-negative-timeout": negative_timeout,
+    "B011-reliability": reliability_unknown,
     "B012": error_condition_reads_in_error,
     "T001": stage_memory_write_conflict,
     "T002": stage_output_write_conflict,

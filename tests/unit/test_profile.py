@@ -166,6 +166,7 @@ def test_the_tags_are_those_of_the_catalogue(profile: Profile) -> None:
     tagged = {(c.name, f.name) for c in profile.concepts.values() for f in c.features if f.tag}
     assert tagged == {("Agent", "declaredType"), ("FsmTransition", "priority"),
                       ("InputBuffer", "receive"), ("InputBuffer", "queueSize"),
+                      ("InputBuffer", "reliability"), ("OutputBuffer", "reliability"),
                       ("FsmState", "bufferGroup"), ("FsmState", "minPeriod"), ("FsmState", "firstTimeout"),
                       ("FsmState", "nextTimeout"), ("BufferGroup", "obligatory"), ("BufferGroup", "optional"),
                       ("Agent", "reactivation"), ("Agent", "host"), ("FsmState", "configuration"),
@@ -183,6 +184,13 @@ def test_receive_mode_defaults_to_the_latest_value(profile: Profile) -> None:
     receive = next(f for f in profile.concepts["InputBuffer"].features if f.name == "receive")
     assert (receive.type, receive.default) == ("ReceiveMode", "latest")
     assert profile.enums["ReceiveMode"] == ("latest", "queue")
+
+
+def test_both_buffers_are_reliable_unless_tagged_best_effort(profile: Profile) -> None:
+    for concept in ("InputBuffer", "OutputBuffer"):
+        reliability = next(f for f in profile.concepts[concept].features if f.name == "reliability")
+        assert (reliability.type, reliability.default) == ("Reliability", "reliable"), concept
+    assert profile.enums["Reliability"] == ("reliable", "best_effort")
 
 
 def test_agent_type_has_the_eight_literals(profile: Profile) -> None:

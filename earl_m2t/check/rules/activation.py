@@ -8,7 +8,7 @@ from collections.abc import Iterator
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import Buffer, EarlModel, State, Subsystem
-from earl_m2t.model.kinds import RECEIVE_MODES
+from earl_m2t.model.kinds import RECEIVE_MODES, RELIABILITIES
 from earl_m2t.model.limits import MAX_SECONDS
 from earl_m2t.predicate import FieldRef, NewData
 from earl_m2t.predicate.walk import walk
@@ -81,6 +81,10 @@ def activation_value_invalid(model: EarlModel) -> Iterator[Finding]:
             elif buffer.receive == "queue" and buffer.queue_size < 1:
                 yield Finding(f"Input Buffer {buffer.path} receives a queue of {buffer.queue_size}; a queue holds "
                               "at least one value (tag queueSize ≥ 1)", buffer.location, buffer.path)
+        for buffer in sub.inputs + sub.outputs:
+            if buffer.index <= 1 and buffer.reliability not in RELIABILITIES:
+                yield Finding(f"{buffer.path} has the reliability '{buffer.reliability}'; the reliabilities are "
+                              f"{', '.join(RELIABILITIES)}", buffer.location, buffer.path)
         for state in sub.fsm.states if sub.fsm is not None else ():
             yield from _state_values(state)
 

@@ -6,8 +6,9 @@ from collections.abc import Iterator
 
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.check.tables import permitted_links
-from earl_m2t.model.elements import EarlModel, Link
+from earl_m2t.model.elements import Buffer, EarlModel, Link
 from earl_m2t.model.graph import subsystem_graph
+from earl_m2t.model.kinds import ReceiveMode, Reliability
 from earl_m2t.model.typecompare import structural_difference
 
 
@@ -131,3 +132,39 @@ def link_name_convention(model: EarlModel) -> Iterator[Finding]:
             shown = f"is named '{link.name}'" if link.name else "has no name"
             yield Finding(f"the link {link.source} → {link.target} {shown}; by convention it is named "
                           f"'{expected}'", link.location, link.path)
+
+
+def _qos_problem(source: Buffer, target: Buffer) -> str:
+    """Why a link from ``source`` to ``target`` cannot be served as its reliabilities ask: a
+    queued input loses no value silently, and DDS never matches a reliable reader with a
+    best-effort writer (a reliable writer serves a best-effort reader); "" when it can."""
+    dropping = [end for end, buffer in (("the Input Buffer", target), ("the Output Buffer", source))
+                if buffer.reliability == Reliability.BEST_EFFORT]
+    if target.receive == ReceiveMode.QUEUE and dropping:
+        which = "both are" if len(dropping) == 2 else f"{dropping[0]} is"
+        return (f"the Input Buffer receives a queue, which loses no value silently, but {which} best_effort; "
+                f"make {'them' if len(dropping) == 2 else 'it'} reliable (tag reliability)")
+    if source.reliability == Reliability.BEST_EFFORT and target.reliability == Reliability.RELIABLE:
+        return ("the Output Buffer is best_effort but the Input Buffer is reliable, a pair DDS never matches, so the "
+                "link would carry nothing; make the Output Buffer reliable or the Input Buffer best_effort (tag "
+                "reliability)")
+    return ""
+
+
+@rule("C010")
+def link_qos_incompatible(model: EarlModel) -> Iterator[Finding]:
+    linked = set()
+    for link in model.links:
+        source, target = model.buffer(link.source), model.buffer(link.target)
+        if source is None or target is None:
+            continue
+        linked.add(target.path)
+        problem = _qos_problem(source, target)
+        if problem:
+            yield Finding(f"link {link.path} ({source.path} → {target.path}): {problem}", link.location, link.path)
+    for sub in model.subsystems:
+        for buffer in sub.inputs:
+            if buffer.path not in linked and buffer.receive == ReceiveMode.QUEUE \
+                    and buffer.reliability == Reliability.BEST_EFFORT:
+                yield Finding(f"Input Buffer {buffer.path} receives a queue, which loses no value silently, but is "
+                              "best_effort; make it reliable (tag reliability)", buffer.location, buffer.path)

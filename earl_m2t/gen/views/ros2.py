@@ -9,10 +9,12 @@ changes is how the code reaches them: a subsystem definition is an rclcpp compon
 as the executable ``<node>_node``), messages are ``<package>::msg::<Name>`` from
 ``<package>/msg/<name>.hpp``, every node is a managed (lifecycle) node that the bringup's
 manager configures, then activates, and each topic gets the QoS of its receive mode
-(``[qos]`` of ``transforms/ros2/target.toml``): an input of the latest value is reliable,
-transient local, depth 1; a queued input is reliable and keeps every value. An output's
-publisher keeps every value when one of its links ends in a queued input, and is transient
-local when one of them ends in an input of the latest value, so it matches every subscriber.
+(``[qos]`` of ``transforms/ros2/target.toml``): an input of the latest value is transient
+local, depth 1; a queued input keeps every value. An output's publisher keeps every value when
+one of its links ends in a queued input, and is transient local when one of them ends in an
+input of the latest value, so it matches every subscriber. Reliability follows each buffer's
+tag reliability (``[qos.reliability]``): a reliable publisher serves best-effort subscriptions
+too; a best-effort publisher and a reliable subscription never match (rule C010).
 
 The messages are the msg target's, in ROS 2's syntax: a variable array with an upper bound is
 a bounded sequence (``JointPosition[<=1]`` for ``[0..1]``), and no comment holds brackets,
@@ -23,7 +25,7 @@ from __future__ import annotations
 
 import posixpath
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from earl_m2t.gen.errors import GenError
@@ -34,7 +36,7 @@ from earl_m2t.model.naming import host_problem, host_ros_name
 
 Data = dict[str, Any]
 
-QOS_KEYS = ("reliability", "durability", "history", "depth")
+QOS_KEYS = ("durability", "history", "depth")
 
 
 def header_stem(message: str) -> str:
@@ -59,12 +61,13 @@ class Ros2Target:
     ready_topic: str
     manager: str
     connect_timeout: float
-    qos: dict[str, Data]  # "latest" / "queue" -> reliability, durability, history, depth
+    qos: dict[str, Data]  # "latest" / "queue" -> durability, history, depth
     parameters: dict[str, Data]  # a declared parameter -> its min, max and description
     default_host: str = "default_host"  # the host of the agents without the tag host
     parameter_file: str = "config/{agent}.yaml"  # an agent's parameter file, in the bringup package
     non_finite: str = "error"  # the value of every node's non_finite in the parameter files
     quiet: bool = False  # the value of every node's quiet in the parameter files
+    reliability: dict[str, str] = field(default_factory=dict)  # a buffer's tag reliability -> rclcpp's
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> Ros2Target:
@@ -78,7 +81,8 @@ class Ros2Target:
                    default_host=str(spec.get("default_host", "default_host")),
                    parameter_file=str(spec.get("parameter_file", "config/{agent}.yaml")),
                    non_finite=str(spec.get("node", {}).get("non_finite", "error")),
-                   quiet=bool(spec.get("node", {}).get("quiet", False)))
+                   quiet=bool(spec.get("node", {}).get("quiet", False)),
+                   reliability={str(tag): str(value) for tag, value in spec["qos"]["reliability"].items()})
 
 
 @dataclass
@@ -134,7 +138,7 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
     components: list[Data] = []
     plugin_of: dict[tuple[str, str], str] = {}
     for node in ros.nodes:
-        components.append(_component(node, blocks[(node["package"], node["exe"])], target, publishers))
+        components.append(_component(model, node, blocks[(node["package"], node["exe"])], target, publishers))
         plugin_of[(node["package"], node["exe"])] = components[-1]["plugin"]
     packages = []
     for package in ros.packages:
@@ -203,22 +207,31 @@ def _publisher_modes(model: EarlModel,
     return modes
 
 
-def _qos(mode: str, target: Ros2Target) -> Data:
-    return dict(target.qos[mode])
+def _qos(mode: str, target: Ros2Target, reliability: str) -> Data:
+    """The QoS of a receive mode, with the reliability of a buffer's tag (one the table does not
+    name, which B011 reports, as written)."""
+    return {**target.qos[mode], "reliability": target.reliability.get(reliability, reliability)}
 
 
-def _publisher_qos(modes: set[str], target: Ros2Target) -> Data:
+def _publisher_qos(modes: set[str], target: Ros2Target, reliability: str) -> Data:
     """Matches every subscriber its links end in: keeps every value for a queue, transient local
-    for a latest value; an output without links publishes as for the latest value."""
+    for a latest value; an output without links publishes as for the latest value. Its
+    reliability is the output's own: a reliable writer serves best-effort readers too."""
     if not modes or modes == {"latest"}:
-        return _qos("latest", target)
-    qos = _qos("queue", target)
+        return _qos("latest", target, reliability)
+    qos = _qos("queue", target, reliability)
     if "latest" in modes:
         qos["durability"] = target.qos["latest"]["durability"]
     return qos
 
 
-def _component(node: Data, block: str, target: Ros2Target,
+def _reliability(model: EarlModel, element: Data) -> str:
+    """The tag reliability of the buffer of a ROS view's element (its first instance's)."""
+    buffer = model.buffer(element["trace"])
+    return buffer.reliability if buffer is not None else "reliable"
+
+
+def _component(model: EarlModel, node: Data, block: str, target: Ros2Target,
                publishers: dict[tuple[str, str, int], set[str]]) -> Data:
     name = node["exe"].removesuffix("_node")
     inputs = []
@@ -226,12 +239,13 @@ def _component(node: Data, block: str, target: Ros2Target,
         cpp_type, header = message_type(e["msg"])
         inputs.append({**e, "msg": cpp_type, "header": header,
                        "mode": "queue" if e["queue"] == 0 else "latest",
-                       "qos": _qos("queue" if e["queue"] == 0 else "latest", target)})
+                       "qos": _qos("queue" if e["queue"] == 0 else "latest", target, _reliability(model, e))})
     outputs = []
     for e in node["outputs"]:
         cpp_type, header = message_type(e["msg"])
+        modes = publishers.get((block, e["template"], e["index"]), set())
         outputs.append({**e, "msg": cpp_type, "header": header,
-                        "qos": _publisher_qos(publishers.get((block, e["template"], e["index"]), set()), target)})
+                        "qos": _publisher_qos(modes, target, _reliability(model, e))})
     cls = camel(name) + target.plugin_suffix
     return {**node, "name": name, "cls_name": cls, "plugin": f"{node['package']}::{cls}",
             "source": f"src/{name}_component.cpp", "inputs": inputs, "outputs": outputs,
