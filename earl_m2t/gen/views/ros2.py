@@ -28,6 +28,7 @@ from typing import Any
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.views.msg import MsgView
 from earl_m2t.gen.views.ros import RosView
+from earl_m2t.gen.views.ros2_switch import component_switch, instance_switch, switch_counts
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.naming import host_problem, host_ros_name
 
@@ -61,6 +62,7 @@ class Ros2Target:
     qos: dict[str, Data]  # "latest" / "queue" -> reliability, durability, history, depth
     parameters: dict[str, Data]  # a declared parameter -> its min, max and description
     default_host: str = "default_host"  # the host of the agents without the tag host
+    switch: Data | None = None  # [switch]: a model with configurations (views/ros2_switch.py)
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> Ros2Target:
@@ -71,7 +73,7 @@ class Ros2Target:
                    manager=str(spec.get("manager", "earl_lifecycle_manager")),
                    connect_timeout=float(spec.get("node", {}).get("connect_timeout", 10.0)), qos=qos,
                    parameters={name: dict(value) for name, value in sorted(spec["parameters"].items())},
-                   default_host=str(spec.get("default_host", "default_host")))
+                   default_host=str(spec.get("default_host", "default_host")), switch=spec.get("switch"))
 
 
 @dataclass
@@ -131,12 +133,13 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
         plugin_of[(node["package"], node["exe"])] = components[-1]["plugin"]
     packages = []
     for package in ros.packages:
-        instances = [{**i, "plugin": plugin_of[(i["pkg"], i["type"])]} for i in package["instances"]]
+        instances = [{**i, "plugin": plugin_of[(i["pkg"], i["type"])], **instance_switch(i)}
+                     for i in package["instances"]]
         packages.append({**package, "library": package["name"] + target.library_suffix,
                          "components": [c for c in components if c["package"] == package["name"]],
                          "instances": instances})
     system = {**ros.system, "agents": packages, "ready_topic": target.ready_topic, "manager": target.manager,
-              "connect_timeout": target.connect_timeout}
+              "connect_timeout": target.connect_timeout, "switch_counts": switch_counts(model)}
     structs = []
     for struct in ros.convert["structs"]:
         cpp_type, header = message_type(struct["msg"])
@@ -219,5 +222,6 @@ def _component(node: Data, block: str, target: Ros2Target,
             "convert": node["convert"].replace("/ros/convert.hpp", "/ros2/convert.hpp"),
             "convert_ns": node["convert_ns"].removesuffix("_ros") + "_ros2",
             "ready_topic": target.ready_topic, "connect_timeout": target.connect_timeout,
-            "parameters": target.parameters}
+            "parameters": target.parameters,
+            "switch": component_switch(node["switch"], target.switch or {}, message_type)}
 
