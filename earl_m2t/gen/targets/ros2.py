@@ -71,6 +71,9 @@ def _render(run: TargetRun) -> Rendered:
              "model": view.convert["ns"].removesuffix("_ros2")}
     for template, pattern in sorted(groups["msgs"].items()):
         put_file(generated, pattern.format(**names), render_template(env, template, system=system))
+    if system["switch"]:  # a model with configurations: the switch's messages
+        for template, pattern in sorted(groups["switch_msgs"].items()):
+            put_file(generated, pattern.format(**names), render_template(env, template, system=system))
     for template, pattern in sorted(groups["system"].items()):
         put_file(generated, pattern.format(**names),
                  render_template(env, template, system=system, convert=view.convert, launch=view.launch))

@@ -31,6 +31,7 @@ from typing import Any
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.views.msg import MsgView
 from earl_m2t.gen.views.ros import RosView
+from earl_m2t.gen.views.ros2_switch import component_switch, instance_switch, switch_counts
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.naming import host_problem, host_ros_name
 
@@ -68,6 +69,7 @@ class Ros2Target:
     non_finite: str = "error"  # the value of every node's non_finite in the parameter files
     quiet: bool = False  # the value of every node's quiet in the parameter files
     reliability: dict[str, str] = field(default_factory=dict)  # a buffer's tag reliability -> rclcpp's
+    switch: Data | None = None  # [switch]: a model with configurations (views/ros2_switch.py)
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any]) -> Ros2Target:
@@ -82,7 +84,8 @@ class Ros2Target:
                    parameter_file=str(spec.get("parameter_file", "config/{agent}.yaml")),
                    non_finite=str(spec.get("node", {}).get("non_finite", "error")),
                    quiet=bool(spec.get("node", {}).get("quiet", False)),
-                   reliability={str(tag): str(value) for tag, value in spec["qos"]["reliability"].items()})
+                   reliability={str(tag): str(value) for tag, value in spec["qos"]["reliability"].items()},
+                   switch=spec.get("switch"))
 
 
 @dataclass
@@ -142,15 +145,19 @@ def build_view(model: EarlModel, ros: RosView, msgs: MsgView, target: Ros2Target
         plugin_of[(node["package"], node["exe"])] = components[-1]["plugin"]
     packages = []
     for package in ros.packages:
-        instances = [{**i, "plugin": plugin_of[(i["pkg"], i["type"])], "fqn": f"/{i['ns']}/{i['name']}",
-                      "parameters": _node_parameters(i, ros.system, target)} for i in package["instances"]]
+        instances = []
+        for instance in package["instances"]:
+            switched = {**instance, **instance_switch(instance)}
+            instances.append({**switched, "plugin": plugin_of[(instance["pkg"], instance["type"])],
+                              "fqn": f"/{instance['ns']}/{instance['name']}",
+                              "parameters": _node_parameters(switched, ros.system, target)})
         parameter_file = target.parameter_file.format(agent=package["ns"])
         packages.append({**package, "library": package["name"] + target.library_suffix,
                          "components": [c for c in components if c["package"] == package["name"]],
                          "instances": instances, "parameter_file": parameter_file,
                          "parameter_dir": posixpath.dirname(parameter_file)})
     system = {**ros.system, "agents": packages, "ready_topic": target.ready_topic, "manager": target.manager,
-              "connect_timeout": target.connect_timeout}
+              "connect_timeout": target.connect_timeout, "switch_counts": switch_counts(model)}
     structs = []
     for struct in ros.convert["structs"]:
         cpp_type, header = message_type(struct["msg"])
@@ -169,6 +176,7 @@ def _node_parameters(instance: Data, system: Data, target: Ros2Target) -> list[t
                               "non_finite": target.non_finite, "quiet": target.quiet,
                               "expected_nodes": int(system["nodes"]), "connect_timeout": target.connect_timeout}
     values.update((f"{name}_links", count) for name, count in instance["links"])
+    values.update(instance.get("switch_parameters", []))
     return sorted(values.items())
 
 
@@ -253,5 +261,6 @@ def _component(model: EarlModel, node: Data, block: str, target: Ros2Target,
             "convert": node["convert"].replace("/ros/convert.hpp", "/ros2/convert.hpp"),
             "convert_ns": node["convert_ns"].removesuffix("_ros") + "_ros2",
             "ready_topic": target.ready_topic, "connect_timeout": target.connect_timeout,
-            "parameters": target.parameters}
+            "parameters": target.parameters,
+            "switch": component_switch(node["switch"], target.switch or {}, message_type)}
 

@@ -1,0 +1,305 @@
+"""The variable-structure samples run as ROS 2 nodes: ``samples/two_arm`` and
+``samples/harmoniser`` generated with ``--target ros2`` over their shipped user code, built with
+colcon against the ROS 2 Jazzy of tests/support/ros2.py and launched (bringup
+``system.launch.py``, ``period:=0.001``) with one busy process per CPU, each launch on a ROS
+domain of its own. Every node is an ``earl::SwitchMember`` over /earl/switch and
+/earl/switch_ack (the coordinator's node runs the ``earl::SwitchCoordinator``); each variable
+link is its own topic, ``<output topic>/<link>``. A launch stops as soon as the run has shown what the checks need.
+
+* the wiring: each node's switch parameters and topics are switch_wiring's numbering, as for
+  ROS 1; a model without configurations gets no switch;
+* two_arm, composed (a container per agent) and a process per node: every numbered command
+  taken exactly once, by the arm of the configuration it was sent in; nothing undelivered; 20
+  switches, each within switchTimeout; the C++ deterministic run's sequence of switches;
+* harmoniser, composed: guiding -> fallResponse -> guiding within the timeouts, nothing
+  undelivered, the resumed guide agent goes on from its state and memory, fallHelp/a starts
+  from its initial state;
+* sensitivity: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails the two_arm
+  checks in one of at most CATCH_ATTEMPTS launches.
+
+Run with ``-s`` for the switch latencies (median and worst) and the launch times.
+"""
+
+from __future__ import annotations
+
+import ast
+import random
+import re
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from earl_m2t.api import load
+from earl_m2t.gen import render
+from earl_m2t.gen.views.switch_wiring import switch_wiring
+from tests.support import ros2
+from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs, long_runs
+from tests.support.cpp_sample import cmake_build, generate_with_user_code
+from tests.support.cpp_sample import run as run_cpp
+from tests.support.load import cpu_hogs, run_until
+from tests.support.switch_checks import SWITCH, Harmoniser, TwoArm, latencies_ms, latency_summary, switches, undelivered
+
+ROOT = Path(__file__).resolve().parents[1]
+TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
+HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
+LOADED_RUNS = loaded_runs()
+LAUNCH_TIMEOUT = 90.0  # s per launch: start-up of the containers (or processes) under load, then the script
+WAYPOINTS_BACK = 5  # the harmoniser's launch stops once guide/a led to this many waypoints back in guiding
+PREFIX = re.compile(r"^\[[^\]]+\] ")  # launch prefixes each line of a process with "[<process>] "
+
+Lines = list[str]
+
+
+# ------------------------------------------------------------------ the generated wiring
+
+def launch_table(files: dict[str, bytes]) -> dict[str, tuple[dict[str, object], list[tuple[str, str]]]]:
+    """(parameters, remaps) of every node of the generated system launch file, by its model path."""
+    [content] = [c for p, c in files.items() if p.endswith("_bringup/launch/system.launch.py")]
+    tree = ast.parse(content.decode())
+    value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                 and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
+    return {str(parameters["path"]): (parameters, remaps)
+            for _, _, nodes in ast.literal_eval(value) for _, _, _, _, parameters, remaps in nodes}
+
+
+@pytest.mark.parametrize("sample", [TWO_ARM, HARMONISER], ids=["two_arm", "harmoniser"])
+def test_each_variable_link_is_a_topic_of_its_own_and_each_node_is_wired_as_the_switch_numbers_it(
+        sample: Path) -> None:
+    model = load(sample).model
+    wiring = switch_wiring(model)
+    assert wiring is not None
+    files = render(model, "ros2").generated
+    nodes = launch_table(files)
+    assert sorted(nodes) == sorted(n.path for n in wiring.nodes)
+    for n in wiring.nodes:
+        params, _ = nodes[n.path]
+        assert (params["switch_node"], params["switch_agent"], params["switch_nodes"]) == (
+            n.index, n.agent, len(wiring.nodes))
+        assert params["switch_control"] is n.control
+        assert params["switch_coordinator"] is n.coordinator
+        received = sorted(int(str(v)) for k, v in params.items() if k.endswith("_switch_link"))
+        assert received == sorted(n.receives)
+        sent = sorted(int(item.partition(":")[0]) for k, v in params.items() if k.endswith("_switch_links")
+                      for item in str(v).split())
+        assert sent == sorted(n.sends)
+        # each variable link's topic is one the node waits for (its link count)
+        for k, v in params.items():
+            if k.endswith("_switch_links"):
+                output = k.removesuffix("_switch_links")
+                for item in str(v).split():
+                    assert params[f"{output}__{item.partition(':')[2]}_links"] == 1
+    remaps = [to for _, node_remaps in nodes.values() for _, to in node_remaps]
+    assert not [r for r in remaps if "__" in r]  # ROS 2 refuses a repeated underscore in a name
+    variable = [r for r in remaps if r.count("/") == 4]  # /<agent>/<subsystem>/<output>/<link>
+    assert len(set(variable)) == len(variable) == len(wiring.links)  # a topic per variable link
+    for n in wiring.nodes:  # each onto a variable link its sender sends
+        params, _ = nodes[n.path]
+        for k, v in params.items():
+            if k.endswith("_switch_links"):
+                for item in str(v).split():
+                    assert any(r.endswith(f"/{k.removesuffix('_switch_links')}/{item.partition(':')[2]}")
+                               for r in variable)
+    assert len(remaps) - len(variable) == len(model.links) - len(wiring.links)  # the fixed links: as before
+    msgs = {path.rpartition("/")[2] for path in files if path.endswith(".msg")}
+    assert {"EarlSwitch.msg", "EarlSwitchAck.msg"} <= msgs
+    components = [c for p, c in files.items() if p.endswith("_component.cpp")]
+    assert components and all(b"earl/switch_protocol.hpp" in c and b"declare_parameter<bool>(\"switch_coordinator\""
+                                  in c for c in components)
+
+
+def test_a_model_without_configurations_gets_no_switch() -> None:
+    files = render(load(ROOT / "samples" / "pick_and_place" / "pick_and_place.uml").model, "ros2").generated
+    assert not [path for path in files if "EarlSwitch" in path or path.endswith("switch_protocol.hpp")]
+    assert not [path for path, content in files.items() if b"switch_node" in content or b"/earl/switch" in content]
+
+
+# ------------------------------------------------------------------ building and launching
+
+@pytest.fixture(scope="module")
+def jazzy() -> ros2.Installation:
+    """The ROS 2 prefix of tests/support/ros2.py (a missing build fails, never skips, when
+    ../shared/vendor/ros2 is there)."""
+    return ros2.installation_for_tests()
+
+
+def gen(model: Path, ws: Path) -> None:
+    """A colcon workspace whose src/ is gen's output for ``model``, its shipped user code first."""
+    shutil.copytree(model.parent / "user", ws / "src" / "user")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
+                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+
+
+def build(jazzy: ros2.Installation, ws: Path, *cmake_flags: str) -> Path:
+    """``colcon build`` with the flags of tests/support/ros2.py (``cmake_flags`` added to its C++ flags)."""
+    command = jazzy.colcon_build_command()
+    if cmake_flags:
+        command = [f"-DCMAKE_CXX_FLAGS=-O0 -g0 {' '.join(cmake_flags)}" if c.startswith("-DCMAKE_CXX_FLAGS=") else c
+                   for c in command]
+    result = subprocess.run(command, cwd=ws, capture_output=True, text=True, env=jazzy.environment(), timeout=3600)
+    assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+    return ws
+
+
+@pytest.fixture(scope="module")
+def two_arm(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
+    ws = tmp_path_factory.mktemp("two_arm_ros2_ws")
+    gen(TWO_ARM, ws)
+    return build(jazzy, ws)
+
+
+@pytest.fixture(scope="module")
+def harmoniser(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
+    ws = tmp_path_factory.mktemp("harmoniser_ros2_ws")
+    gen(HARMONISER, ws)
+    return build(jazzy, ws)
+
+
+def cpp_trace(model: Path, folder: Path, target: str, cycles: int) -> Lines:
+    """The C++ target's deterministic run of ``model`` (its shipped user code)."""
+    out = generate_with_user_code(model, model.parent / "user", folder / "out")
+    return run_cpp(cmake_build(out, folder / "build", target), "--cycles", str(cycles)).splitlines()
+
+
+def switch_timeouts_ms(ws: Path) -> dict[str, float]:
+    """The switchTimeout of every configuration (ms), as the generated System holds it."""
+    [system] = (ws / "src" / "earl" / "generated" / "include").glob("*/system.hpp")
+    text = system.read_text(encoding="utf-8")
+    names = re.search(r"kConfigurations\[\] = \{([^}]*)\}", text)
+    timeouts = re.search(r"kSwitchTimeoutNs\[\] = \{([^}]*)\}", text)
+    assert names is not None and timeouts is not None
+    return {name.strip().strip('"'): int(ns) / 1e6
+            for name, ns in zip(names.group(1).split(","), timeouts.group(1).split(","), strict=True)}
+
+
+def beyond_timeout(lines: Lines, timeouts: dict[str, float]) -> list[str]:
+    return [m.group(0) for m in map(SWITCH.match, lines) if m and float(m.group(3)) > timeouts[m.group(2)]]
+
+
+def launch(ws: Path, jazzy: ros2.Installation, folder: Path, seen: Callable[[Lines], bool], composed: str = "true"
+           ) -> tuple[Lines, bool, float]:
+    """One launch of the system until ``seen``, on a ROS domain of its own: (its output without
+    launch's process prefixes, whether seen, seconds)."""
+    bringup = next(p.parent.name for p in (ws / "src").glob("*_bringup/package.xml"))
+    env = jazzy.environment(ws, domain_id=random.randint(1, 100))
+    env.update(ROS_LOG_DIR=str(folder / "log"), ROS_HOME=str(folder / "home"))
+    started = time.monotonic()
+    lines, reached = run_until(["ros2", "launch", bringup, "system.launch.py", "period:=0.001",
+                                f"composed:={composed}"],
+                               lambda out: seen([PREFIX.sub("", line.strip()) for line in out]), LAUNCH_TIMEOUT, env)
+    return [PREFIX.sub("", line.strip()) for line in lines], reached, time.monotonic() - started
+
+
+def report(sample: str, latencies: list[float], seconds: list[float]) -> None:
+    print(f"\n{sample}: {len(seconds)} launches, {latency_summary(latencies)}; launch median "
+          f"{sorted(seconds)[len(seconds) // 2]:.2f} s, longest {max(seconds):.2f} s")
+
+
+def notable(lines: Lines) -> str:
+    """What a failed launch said of the switch, errors and deaths, and its end."""
+    said = [line for line in lines if re.search(r"^switch |undelivered|WARN|ERROR|died|manager", line)]
+    return "\n".join(said[:40] + ["..."] + lines[-20:])
+
+
+# ------------------------------------------------------------------ two_arm
+
+def two_arm_problems(lines: Lines, reached: bool, expected: list[tuple[str, str]], timeouts: dict[str, float]
+                     ) -> list[str]:
+    found = TwoArm.problems(lines) + beyond_timeout(lines, timeouts)
+    if not reached:
+        found.append("the run did not finish")
+    if switches(lines) != expected:
+        found.append(f"switches {switches(lines)} are not the C++ run's")
+    return found
+
+
+@pytest.fixture(scope="module")
+def two_arm_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str]]:
+    trace = cpp_trace(TWO_ARM, tmp_path_factory.mktemp("two_arm_cpp"), "TwoArm_system", 6000)
+    assert TwoArm.problems(trace) == []
+    return switches(trace)
+
+
+# composed: the campaign's runs; a process per node: all of them in a full campaign, a fifth in the suite's
+@pytest.mark.parametrize(("composed", "runs"), [("true", LOADED_RUNS), ("false", long_runs(5))])
+def test_two_arm_launches_under_load_hand_every_command_over(
+        two_arm: Path, jazzy: ros2.Installation, two_arm_switches: list[tuple[str, str]], tmp_path: Path,
+        composed: str, runs: int) -> None:
+    timeouts = switch_timeouts_ms(two_arm)
+    failures: list[str] = []
+    latencies: list[float] = []
+    seconds: list[float] = []
+    with cpu_hogs():
+        for attempt in range(runs):
+            lines, reached, took = launch(two_arm, jazzy, tmp_path, TwoArm.finished, composed)
+            seconds.append(took)
+            latencies += latencies_ms(lines)
+            found = two_arm_problems(lines, reached, two_arm_switches, timeouts)
+            if found:
+                failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
+    report(f"two_arm (ros2, composed={composed})", latencies, seconds)
+    assert not failures, f"{len(failures)} of {runs} launches failed:\n" + "\n".join(failures[:2])
+
+
+def test_two_arm_checks_catch_a_build_that_skips_the_drain(
+        tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation,
+        two_arm_switches: list[tuple[str, str]], tmp_path: Path) -> None:
+    ws = tmp_path_factory.mktemp("two_arm_ros2_undrained_ws")
+    gen(TWO_ARM, ws)
+    build(jazzy, ws, "-DEARL_SWITCH_DRAIN=0")
+    timeouts = switch_timeouts_ms(ws)
+    caught = None
+    with cpu_hogs():
+        for attempt in range(CATCH_ATTEMPTS):
+            lines, reached, _ = launch(ws, jazzy, tmp_path, TwoArm.finished)
+            found = two_arm_problems(lines, reached, two_arm_switches, timeouts)
+            if found:
+                caught = f"launch {attempt + 1}: {found}"
+                break
+    print(f"\ntwo_arm (ros2) without the drain: {caught}")
+    assert caught is not None, f"all {CATCH_ATTEMPTS} launches of the drain-skipping build passed the checks"
+
+
+# ------------------------------------------------------------------ harmoniser
+
+def back_in_guiding(lines: Lines) -> bool:
+    """The switch back to guiding was printed and guide/a has led to a few waypoints since."""
+    back = next((i for i, line in enumerate(lines) if line.startswith("switch fallResponse -> guiding")), None)
+    return back is not None and sum(1 for line in lines[back:] if Harmoniser.LEAD.match(line)) >= WAYPOINTS_BACK
+
+
+def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, str]],
+                        timeouts: dict[str, float]) -> list[str]:
+    found = undelivered(lines) + beyond_timeout(lines, timeouts)
+    if not reached:
+        return [*found, f"the run did not come back to guiding: switches {switches(lines)}"]
+    if switches(lines) != expected:
+        found.append(f"switches {switches(lines)} are not the C++ run's")
+    return found + [problem for problem in Harmoniser.problems(lines) if problem not in found]
+
+
+def test_harmoniser_launches_under_load_resume_the_guide_agent(
+        harmoniser: Path, jazzy: ros2.Installation, tmp_path_factory: pytest.TempPathFactory,
+        tmp_path: Path) -> None:
+    trace = cpp_trace(HARMONISER, tmp_path_factory.mktemp("harmoniser_cpp"), "Harmoniser_system", 140)
+    expected = switches(trace)
+    assert expected == Harmoniser.SWITCHES
+    timeouts = switch_timeouts_ms(harmoniser)
+    failures: list[str] = []
+    latencies: list[float] = []
+    seconds: list[float] = []
+    with cpu_hogs():
+        for attempt in range(LOADED_RUNS):
+            lines, reached, took = launch(harmoniser, jazzy, tmp_path, back_in_guiding)
+            seconds.append(took)
+            latencies += latencies_ms(lines)
+            found = harmoniser_problems(lines, reached, expected, timeouts)
+            if found:
+                failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
+    report("harmoniser (ros2, composed)", latencies, seconds)
+    assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures[:2])
