@@ -58,13 +58,20 @@ Lines = list[str]
 # ------------------------------------------------------------------ the generated wiring
 
 def launch_table(files: dict[str, bytes]) -> dict[str, tuple[dict[str, object], list[tuple[str, str]]]]:
-    """(parameters, remaps) of every node of the generated system launch file, by its model path."""
-    [content] = [c for p, c in files.items() if p.endswith("_bringup/launch/system.launch.py")]
+    """(parameters from its agent's parameter file, remaps of the generated system launch file)
+    of every node, by its model path."""
+    [(launch_path, content)] = [(p, c) for p, c in files.items() if p.endswith("_bringup/launch/system.launch.py")]
+    bringup = launch_path.removesuffix("launch/system.launch.py")
     tree = ast.parse(content.decode())
     value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
                  and any(isinstance(t, ast.Name) and t.id == "AGENTS" for t in node.targets))
-    return {str(parameters["path"]): (parameters, remaps)
-            for _, _, nodes in ast.literal_eval(value) for _, _, _, _, parameters, remaps in nodes}
+    table: dict[str, tuple[dict[str, object], list[tuple[str, str]]]] = {}
+    for namespace, _, parameter_file, nodes in ast.literal_eval(value):
+        values = ros2.parameters_of_text(files[bringup + parameter_file].decode(), parameter_file)
+        for _, _, _, name, remaps in nodes:
+            parameters = values[f"/{namespace}/{name}"]
+            table[str(parameters["path"])] = (parameters, remaps)
+    return table
 
 
 @pytest.mark.parametrize("sample", [TWO_ARM, HARMONISER], ids=["two_arm", "harmoniser"])

@@ -102,15 +102,20 @@ def generated_parameters(path: Path) -> dict[str, dict[str, Any]]:
     """A parameter file gen wrote (``config/<agent>.yaml``), by node: the values of its
     ``ros__parameters``. Reads only the layout gen writes (each scalar one JSON value), so that
     the tests need no YAML library; launch_ros reads it with PyYAML and the nodes with rcl."""
+    return parameters_of_text(path.read_text(encoding="utf-8"), path.name)
+
+
+def parameters_of_text(text: str, name: str) -> dict[str, dict[str, Any]]:
+    """:func:`generated_parameters` of a parameter file's text (``name`` for the messages)."""
     nodes: dict[str, dict[str, Any]] = {}
-    for line in path.read_text(encoding="utf-8").splitlines():
+    for line in text.splitlines():
         found = PARAMETER_FILE_LINE.match(line)
         if found and found.group(1):
             nodes[found.group(1)] = {}
         elif found:
             nodes[next(reversed(nodes))][found.group(2)] = json.loads(found.group(3))
         else:
-            assert line.startswith("#") or line == "  ros__parameters:", f"{path.name}: {line!r}"
+            assert line.startswith("#") or line == "  ros__parameters:", f"{name}: {line!r}"
     return nodes
 
 
