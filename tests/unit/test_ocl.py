@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, field
 
 import pytest
@@ -16,6 +15,7 @@ from earl_m2t.ocl import (
     parse_expression,
     parse_invariants,
 )
+from tests.support.calls import counted_calls
 
 # ---------------------------------------------------------------------------- model objects
 
@@ -626,18 +626,8 @@ def test_an_invariant_costs_the_same_few_calls_for_every_object() -> None:
 
     def calls(count: int) -> int:
         objects = [Subsystem(f"s{i}", "ve", [Buffer("i")], [Buffer("o")]) for i in range(count)]
-        made = 0
-
-        def counter(frame: object, event: str, argument: object) -> None:
-            nonlocal made
-            if event == "call":
-                made += 1
-
-        sys.setprofile(counter)
-        try:
-            assert all(check(invariant, obj) for obj in objects)
-        finally:
-            sys.setprofile(None)
+        passed, made = counted_calls(lambda: all(check(invariant, obj) for obj in objects))
+        assert passed
         return made
 
     small, large = calls(1_000), calls(10_000)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import itertools
-import sys
 
 import pytest
 from textx.exceptions import TextXError
@@ -30,6 +29,7 @@ from earl_m2t.predicate import (
 )
 from earl_m2t.predicate.parser import _metamodel
 from earl_m2t.resources import metamodel_path
+from tests.support.calls import counted_calls
 
 # ---------------------------------------------------------------------------- helpers
 
@@ -671,18 +671,7 @@ def test_parsing_a_200_term_expression_is_linear() -> None:
     parse_predicate(text(2))  # build the metamodel first
 
     def calls(n: int) -> int:
-        count = 0
-
-        def counter(frame: object, event: str, argument: object) -> None:
-            nonlocal count
-            if event == "call":
-                count += 1
-
-        sys.setprofile(counter)
-        try:
-            expr = parse_predicate(text(n))
-        finally:
-            sys.setprofile(None)
+        expr, count = counted_calls(lambda: parse_predicate(text(n)))
         assert isinstance(expr, Or) and len(expr.operands) == n
         return count
 
