@@ -9,6 +9,7 @@ Rendering records which model element each output line comes from
 
 from __future__ import annotations
 
+import functools
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -38,9 +39,10 @@ def load_target(target: str) -> dict[str, Any]:
 
 
 class _CompiledTemplates(jinja2.BytecodeCache):
-    """Templates compiled once per process and shared by the environments of :func:`environment`,
-    which all have the same options. Jinja keys a template by its file and checks the checksum
-    of its text, so a user template or an edited file is compiled anew."""
+    """Templates compiled once per process and shared by the environments of :func:`environment`
+    of one class (the class decides how output is finalized, which the compiled code holds; the
+    options are the same for all). Jinja keys a template by its file and checks the checksum of
+    its text, so a user template or an edited file is compiled anew."""
 
     def __init__(self) -> None:
         self._code: dict[str, bytes] = {}
@@ -54,7 +56,9 @@ class _CompiledTemplates(jinja2.BytecodeCache):
         self._code[bucket.key] = bucket.bytecode_to_string()
 
 
-_COMPILED = _CompiledTemplates()
+@functools.cache
+def _compiled_templates(environment_class: type[jinja2.Environment]) -> _CompiledTemplates:
+    return _CompiledTemplates()
 
 
 def environment(target: str, user_templates: Path | None = None) -> jinja2.Environment:
@@ -73,7 +77,7 @@ def environment(target: str, user_templates: Path | None = None) -> jinja2.Envir
         trim_blocks=True,
         lstrip_blocks=True,
         autoescape=False,
-        bytecode_cache=_COMPILED,
+        bytecode_cache=_compiled_templates(TracingEnvironment),
     )
 
 
