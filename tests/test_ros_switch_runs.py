@@ -20,7 +20,6 @@ Run with ``-s`` for the switch latencies (median and worst) and the launch times
 
 from __future__ import annotations
 
-import re
 import statistics
 import time
 import xml.etree.ElementTree as ElementTree
@@ -34,8 +33,6 @@ from earl_m2t.api import load
 from earl_m2t.gen import render
 from earl_m2t.gen.views.switch_wiring import switch_wiring
 from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
-from tests.support.cpp_sample import cmake_build, generate_with_user_code
-from tests.support.cpp_sample import run as run_cpp
 from tests.support.load import cpu_hogs, run_until
 from tests.support.ros_launch import (
     catkin_make,
@@ -46,7 +43,17 @@ from tests.support.ros_launch import (
     needs_roslaunch,
     roscore,
 )
-from tests.support.switch_checks import SWITCH, Harmoniser, TwoArm, latencies_ms, latency_summary, switches, undelivered
+from tests.support.switch_checks import (
+    Harmoniser,
+    TwoArm,
+    beyond_timeout,
+    cpp_trace,
+    latencies_ms,
+    latency_summary,
+    switch_timeouts_ms,
+    switches,
+    undelivered,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
@@ -88,27 +95,6 @@ def two_arm(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="module")
 def harmoniser(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return workspace(tmp_path_factory.mktemp("harmoniser_ws"), HARMONISER)
-
-
-def cpp_trace(model: Path, folder: Path, target: str, cycles: int) -> Lines:
-    """The C++ target's deterministic run of ``model`` (its shipped user code)."""
-    out = generate_with_user_code(model, model.parent / "user", folder / "out")
-    return run_cpp(cmake_build(out, folder / "build", target), "--cycles", str(cycles)).splitlines()
-
-
-def switch_timeouts_ms(ws: Path) -> dict[str, float]:
-    """The switchTimeout of every configuration (ms), as the generated System holds it."""
-    [system] = (ws / "src" / "earl" / "generated" / "include").glob("*/system.hpp")
-    text = system.read_text(encoding="utf-8")
-    names = re.search(r"kConfigurations\[\] = \{([^}]*)\}", text)
-    timeouts = re.search(r"kSwitchTimeoutNs\[\] = \{([^}]*)\}", text)
-    assert names is not None and timeouts is not None
-    return {name.strip().strip('"'): int(ns) / 1e6
-            for name, ns in zip(names.group(1).split(","), timeouts.group(1).split(","), strict=True)}
-
-
-def beyond_timeout(lines: Lines, timeouts: dict[str, float]) -> list[str]:
-    return [m.group(0) for m in map(SWITCH.match, lines) if m and float(m.group(3)) > timeouts[m.group(2)]]
 
 
 def launch(ws: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy], seen: Callable[[Lines], bool]

@@ -7,6 +7,10 @@ from __future__ import annotations
 
 import re
 import statistics
+from pathlib import Path
+
+from tests.support.cpp_sample import cmake_build, generate_with_user_code
+from tests.support.cpp_sample import run as run_cpp
 
 SWITCH = re.compile(r"^switch (\w+) -> (\w+) in (\d+(?:\.\d+)?) (cycles|ms)$")
 
@@ -183,3 +187,24 @@ class Harmoniser:
     @classmethod
     def assist_steps(cls, trace: list[str]) -> list[int]:
         return [int(m.group(1)) for m in map(cls.ASSIST.match, trace) if m]
+
+
+def cpp_trace(model: Path, folder: Path, target: str, cycles: int) -> list[str]:
+    """The C++ target's deterministic run of ``model`` (its shipped user code)."""
+    out = generate_with_user_code(model, model.parent / "user", folder / "out")
+    return run_cpp(cmake_build(out, folder / "build", target), "--cycles", str(cycles)).splitlines()
+
+
+def switch_timeouts_ms(ws: Path) -> dict[str, float]:
+    """The switchTimeout of every configuration (ms), as the generated System holds it."""
+    [system] = (ws / "src" / "earl" / "generated" / "include").glob("*/system.hpp")
+    text = system.read_text(encoding="utf-8")
+    names = re.search(r"kConfigurations\[\] = \{([^}]*)\}", text)
+    timeouts = re.search(r"kSwitchTimeoutNs\[\] = \{([^}]*)\}", text)
+    assert names is not None and timeouts is not None
+    return {name.strip().strip('"'): int(ns) / 1e6
+            for name, ns in zip(names.group(1).split(","), timeouts.group(1).split(","), strict=True)}
+
+
+def beyond_timeout(lines: list[str], timeouts: dict[str, float]) -> list[str]:
+    return [m.group(0) for m in map(SWITCH.match, lines) if m and float(m.group(3)) > timeouts[m.group(2)]]
