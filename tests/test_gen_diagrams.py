@@ -17,7 +17,7 @@ from earl_m2t.api import load
 from earl_m2t.cli.app import main
 from earl_m2t.gen import GenError, render
 from earl_m2t.gen.diagrams import diagram_sources, render_diagrams
-from earl_m2t.gen.dot import DotError, run_dot
+from earl_m2t.gen.dot import DotError, html_label_text, run_dot
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
@@ -196,3 +196,14 @@ def test_a_broken_dot_source_is_a_one_line_error() -> None:
     with pytest.raises(DotError, match=r"^dot failed on broken: .*syntax error"):
         run_dot(b"digraph g { a -> }", "svg", "broken")
     assert re.fullmatch(r"unknown diagram format 'pdf' .*", str(pytest.raises(DotError, run_dot, b"", "pdf").value))
+
+
+def test_a_name_longer_than_dot_reads_is_shortened_in_the_middle_and_laid_out() -> None:
+    name = "Arm" + "A" * 30000 + "Robot<&>"
+    shown = html_label_text(name, 400)
+    assert shown.startswith("ArmAAA") and shown.endswith("Robot&lt;&amp;&gt;") and "…" in shown
+    assert len(html_label_text(name, 400).replace("&lt;", "<").replace("&amp;", "&").replace("&gt;", ">")) == 400
+    assert html_label_text("a<b", 400) == "a&lt;b"
+    with pytest.raises(DotError, match="syntax error"):
+        run_dot(f"digraph g {{ a [label=<{'A' * 30000}>]; }}".encode(), "svg", "unshortened")
+    assert run_dot(f"digraph g {{ a [label=<{shown}>]; }}".encode(), "svg", "shortened").output

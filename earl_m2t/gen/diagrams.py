@@ -9,12 +9,11 @@ Used by ``earl-m2t gen --target diagrams`` (``.dot`` and ``.svg`` per diagram) a
 from __future__ import annotations
 
 from dataclasses import dataclass
-from html import escape
 from pathlib import Path
 
 import jinja2
 
-from earl_m2t.gen.dot import DotError, run_dot
+from earl_m2t.gen.dot import DotError, html_label_text, run_dot
 from earl_m2t.gen.engine import environment, load_target
 from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.errors import GenError
@@ -36,7 +35,8 @@ class RenderedDiagram:
 
 def dot_environment(templates: Path | None = None) -> jinja2.Environment:
     env = environment(TARGET, templates)
-    env.filters["h"] = lambda text: escape(str(text), quote=True)
+    max_chars = int(load_target(TARGET)["label_max_chars"])
+    env.filters["h"] = lambda text: html_label_text(text, max_chars)
     return env
 
 

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from earl_m2t.gen.engine import environment, load_target, render
+from earl_m2t.gen.diagrams import dot_environment
+from earl_m2t.gen.engine import load_target, render
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.verify.run import Finding
 
@@ -10,8 +11,7 @@ TARGET = "diagrams"
 
 
 def counterexample_dot(model: EarlModel, finding: Finding) -> bytes:
-    env = environment(TARGET)
-    env.filters["h"] = _escape
+    env = dot_environment()
     involved = list(dict.fromkeys(step.subsystem for step in finding.trace))
     lifelines = []
     for index, path in enumerate(involved):
@@ -37,7 +37,3 @@ def _initially(model: EarlModel, path: str) -> str:
     if any(a.path == path for a in model.agents):
         return "agent"
     return "link" if any(link.path == path for link in model.links) else ""
-
-
-def _escape(text: object) -> str:
-    return str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
