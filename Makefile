@@ -33,7 +33,8 @@ demo: bytecode
 SUITE_RUNS ?= 10
 CAMPAIGN_RUNS ?= 50
 CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_harmoniser_runs.py tests/test_gen_ros2.py \
-	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py
+	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py \
+	tests/test_ros2_hosts.py tests/test_ros2_switch_runs.py
 test: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
 	@$(PYTHON) tests/support/ros2.py ensure >/dev/null || true
@@ -41,6 +42,7 @@ test: bytecode
 
 campaign: bytecode
 	@$(PYTHON) tests/support/orocos.py ensure >/dev/null || true
+	@$(PYTHON) tests/support/ros2.py ensure >/dev/null || true
 	EARL_CAMPAIGN_RUNS=$(CAMPAIGN_RUNS) $(PY) -m pytest -q -s $(CAMPAIGNS)
 
 wheel-check: $(STAMP)

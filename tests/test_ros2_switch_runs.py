@@ -11,9 +11,10 @@ link is its own topic, ``<output topic>/<link>``. A launch stops as soon as the 
 * two_arm, composed (a container per agent) and a process per node: every numbered command
   taken exactly once, by the arm of the configuration it was sent in; nothing undelivered; 20
   switches, each within switchTimeout; the C++ deterministic run's sequence of switches;
-* harmoniser, composed: guiding -> fallResponse -> guiding within the timeouts, nothing
-  undelivered, the resumed guide agent goes on from its state and memory, fallHelp/a starts
-  from its initial state;
+* harmoniser, composed and a process per node: guiding -> fallResponse -> guiding within the
+  timeouts, nothing undelivered, the resumed guide agent goes on from its state and memory,
+  fallHelp/a starts from its initial state; the harmoniser with guide/a restarted instead of
+  resumed leads from the first waypoint again, which the checks of the resumed agent reject;
 * sensitivity: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails the two_arm
   checks in one of at most CATCH_ATTEMPTS launches.
 
@@ -55,6 +56,9 @@ from tests.support.switch_checks import (
 ROOT = Path(__file__).resolve().parents[1]
 TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
 HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
+# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
+GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
+                 "            part cs : GuideControl;\n")
 LOADED_RUNS = loaded_runs()
 LAUNCH_TIMEOUT = 90.0  # s per launch: start-up of the containers (or processes) under load, then the script
 WAYPOINTS_BACK = 5  # the harmoniser's launch stops once guide/a led to this many waypoints back in guiding
@@ -142,9 +146,10 @@ def jazzy() -> ros2.Installation:
     return ros2.installation_for_tests()
 
 
-def gen(model: Path, ws: Path) -> None:
-    """A colcon workspace whose src/ is gen's output for ``model``, its shipped user code first."""
-    shutil.copytree(model.parent / "user", ws / "src" / "user")
+def gen(model: Path, ws: Path, user: Path | None = None) -> None:
+    """A colcon workspace whose src/ is gen's output for ``model``, its shipped user code
+    (``user``, else the one beside the model) first; gen again over a workspace keeps its user code."""
+    shutil.copytree(user or model.parent / "user", ws / "src" / "user", dirs_exist_ok=True)
     result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
                              str(ws / "src")], capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
@@ -277,23 +282,49 @@ def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, s
     return found + [problem for problem in Harmoniser.problems(lines) if problem not in found]
 
 
-def test_harmoniser_launches_under_load_resume_the_guide_agent(
-        harmoniser: Path, jazzy: ros2.Installation, tmp_path_factory: pytest.TempPathFactory,
-        tmp_path: Path) -> None:
+@pytest.fixture(scope="module")
+def harmoniser_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str]]:
     trace = cpp_trace(HARMONISER, tmp_path_factory.mktemp("harmoniser_cpp"), "Harmoniser_system", 140)
-    expected = switches(trace)
-    assert expected == Harmoniser.SWITCHES
+    assert switches(trace) == Harmoniser.SWITCHES
+    return switches(trace)
+
+
+# composed: the campaign's runs; a process per node: all of them in a full campaign, a fifth in the suite's
+@pytest.mark.parametrize(("composed", "runs"), [("true", LOADED_RUNS), ("false", long_runs(5))])
+def test_harmoniser_launches_under_load_resume_the_guide_agent(
+        harmoniser: Path, jazzy: ros2.Installation, harmoniser_switches: list[tuple[str, str]], tmp_path: Path,
+        composed: str, runs: int) -> None:
     timeouts = switch_timeouts_ms(harmoniser)
     failures: list[str] = []
     latencies: list[float] = []
     seconds: list[float] = []
     with cpu_hogs():
-        for attempt in range(LOADED_RUNS):
-            lines, reached, took = launch(harmoniser, jazzy, tmp_path, back_in_guiding)
+        for attempt in range(runs):
+            lines, reached, took = launch(harmoniser, jazzy, tmp_path, back_in_guiding, composed)
             seconds.append(took)
             latencies += latencies_ms(lines)
-            found = harmoniser_problems(lines, reached, expected, timeouts)
+            found = harmoniser_problems(lines, reached, harmoniser_switches, timeouts)
             if found:
                 failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
-    report("harmoniser (ros2, composed)", latencies, seconds)
-    assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures[:2])
+    report(f"harmoniser (ros2, composed={composed})", latencies, seconds)
+    assert not failures, f"{len(failures)} of {runs} launches failed:\n" + "\n".join(failures[:2])
+
+
+def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_checks(
+        harmoniser: Path, jazzy: ros2.Installation, harmoniser_switches: list[tuple[str, str]],
+        tmp_path: Path) -> None:
+    """The harmoniser's workspace regenerated from the model with guide/a restarted instead of
+    resumed, and built again (only what changed: colcon keeps the build folders), so it runs
+    last in this module."""
+    text = HARMONISER.with_suffix(".sysml").read_text(encoding="utf-8")
+    assert text.count(GUIDE_RESUMES) == 1
+    restarted = tmp_path / "harmoniser.sysml"
+    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
+    gen(restarted, harmoniser, user=HARMONISER.parent / "user")
+    build(jazzy, harmoniser)
+    lines, reached, _ = launch(harmoniser, jazzy, tmp_path, back_in_guiding)
+    assert reached and switches(lines) == harmoniser_switches and not undelivered(lines), notable(lines)
+    assert Harmoniser.first_waypoint_back(lines) == 1
+    assert any(Harmoniser.GUIDE_START.match(line) for line in lines[Harmoniser.resumed_at(lines)[1]:])
+    with pytest.raises(AssertionError):
+        Harmoniser.assert_resumed(lines)
