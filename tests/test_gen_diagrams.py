@@ -207,3 +207,10 @@ def test_a_name_longer_than_dot_reads_is_shortened_in_the_middle_and_laid_out() 
     with pytest.raises(DotError, match="syntax error"):
         run_dot(f"digraph g {{ a [label=<{'A' * 30000}>]; }}".encode(), "svg", "unshortened")
     assert run_dot(f"digraph g {{ a [label=<{shown}>]; }}".encode(), "svg", "shortened").output
+
+
+def test_dot_is_bounded_by_its_cpu_time_not_by_the_clock() -> None:
+    nodes = [f"n{i}" for i in range(250)]
+    heavy = "digraph g {\n" + "".join(f"{a} -> {b};\n" for a in nodes for b in nodes[:60]) + "}\n"
+    with pytest.raises(DotError, match=r"^dot used more than 1 s of CPU time on heavy$"):
+        run_dot(heavy.encode(), "svg", "heavy", cpu_seconds=1)
