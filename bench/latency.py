@@ -13,19 +13,21 @@ ago it was written:
 * ``earl polling 100 us``: the same source built with ``-DEARL_WAKE_POLL=1`` (the former
   runner loop, which looks at ready() every 100 us; kept for this comparison only);
 * ``std::condition_variable``: ``bench/cpp/latency_cv.cpp``, the hand-off written by hand;
-* ``orocos event port``: ``bench/cpp/latency_orocos.cpp``, the same subsystem inside an RTT
-  TaskContext doing what the generated Orocos master does (an event port, a
-  FileDescriptorActivity whose timeout is the subsystem's next deadline), the writer an RTT
-  output port connected to it; ``orocos polling 0.2 ms``: the same built with
-  ``-DEARL_OROCOS_POLL=1`` (a plain port, a periodic 0.2 ms activity: the master before);
-  ``orocos plain Activity`` (``-DEARL_OROCOS_ACTIVITY=1``): RTT's non-periodic Activity, which
-  has no timeout (for comparison only); ``orocos wake activity`` (``-DEARL_OROCOS_WAKE=1``):
-  earl::rtt::WakeActivity (``bench/cpp/rtt_wake_activity.hpp``), a thread
-  sleeping on an earl wake word with the subsystem's next deadline; ``orocos wake act. + hook``
-  (``-DEARL_OROCOS_WAKE=2``): the same, the master's dataOnPortHook() asking it for the update
-  step directly instead of through RTT's port queue and callback step. Built
-  against the Orocos RTT the tests use (``tests/support/orocos.py``); left out, with the reason,
-  when there is none.
+* ``orocos master (generated)``: ``bench/cpp/latency_orocos.cpp`` built with
+  ``-DEARL_OROCOS_WAKE=2``, the same subsystem inside an RTT TaskContext doing what the
+  generated Orocos master does: its own earl::rtt::WakeActivity
+  (``transforms/orocos/runtime/earl/rtt_wake_activity.hpp``), a thread sleeping on an earl wake
+  word until data or the subsystem's next deadline, and a dataOnPortHook() that asks it for the
+  update step directly; the writer an RTT output port connected to its event port. For
+  comparison, the same source built as the masters before: ``orocos fd activity (before)`` (no
+  flag: a FileDescriptorActivity whose timeout is the subsystem's next deadline, data going
+  through RTT's port queue and a callback step) and ``orocos polling 0.2 ms``
+  (``-DEARL_OROCOS_POLL=1``: a plain port, a periodic 0.2 ms activity); and two other paths:
+  ``orocos plain Activity`` (``-DEARL_OROCOS_ACTIVITY=1``: RTT's non-periodic Activity, which
+  has no timeout) and ``orocos wake act., no hook`` (``-DEARL_OROCOS_WAKE=1``: the wake
+  activity with RTT's port queue). Built against the Orocos RTT the tests use
+  (``tests/support/orocos.py``; ``OROCOS_RTT_PREFIX`` names another, such as a release build);
+  left out, with the reason, when there is none.
 
 Each runs unloaded, then loaded (one spinning process per CPU, started by the bench), in
 ``--rounds`` rounds: the programs in turn, each time a share of the hand-offs, their samples
@@ -64,6 +66,7 @@ BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 SOURCES = BENCH / "cpp"
 RUNTIME = ROOT / "transforms" / "cpp" / "runtime"
+OROCOS_RUNTIME = ROOT / "transforms" / "orocos" / "runtime"  # the RTT side: earl/rtt_wake_activity.hpp
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 CXXFLAGS = ["-std=c++17", "-O2", "-DNDEBUG", "-Wall", "-Wextra", "-Werror", "-pthread"]
 POLL = "-DEARL_WAKE_POLL=1"
@@ -121,7 +124,8 @@ def build_orocos(cxx: str, out: Path) -> tuple[dict[str, Path], dict[str, str]]:
     except (orocos.OrocosUnavailable, orocos.OrocosBuildFailed) as error:
         return {}, {"reason": str(error).splitlines()[0]}
     # RTT's own headers as system headers: their deprecation warnings are not this bench's
-    flags = [f"-I{RUNTIME}", f"-I{SOURCES}", "-isystem", str(rtt.prefix / "include"), "-DOROCOS_TARGET=gnulinux",
+    flags = [f"-I{RUNTIME}", f"-I{OROCOS_RUNTIME}", f"-I{SOURCES}", "-isystem", str(rtt.prefix / "include"),
+             "-DOROCOS_TARGET=gnulinux",
              "-DBOOST_BIND_GLOBAL_PLACEHOLDERS",
              f"-L{rtt.prefix / 'lib'}", "-lorocos-rtt-gnulinux", "-lpthread", "-lrt",
              f"-Wl,-rpath,{rtt.prefix / 'lib'}"]
@@ -203,11 +207,11 @@ def idle_cpu(command: list[str], window: float) -> float:
 
 
 def report(rows: list[dict], idle: list[dict], missing: dict[str, str]) -> None:
-    header = f"{'load':<9} {'variant':<26} {'samples':>8} {'p50 us':>9} {'p99 us':>9} {'max us':>10}"
+    header = f"{'load':<9} {'variant':<28} {'samples':>8} {'p50 us':>9} {'p99 us':>9} {'max us':>10}"
     print(header)
     print("-" * len(header))
     for row in rows:
-        print(f"{row['load']:<9} {row['variant']:<26} {row['samples']:>8} {row['p50_us']:>9.2f} {row['p99_us']:>9.2f} "
+        print(f"{row['load']:<9} {row['variant']:<28} {row['samples']:>8} {row['p50_us']:>9.2f} {row['p99_us']:>9.2f} "
               f"{row['max_us']:>10.2f}")
     print()
     for load in ("unloaded", "loaded"):
@@ -216,7 +220,7 @@ def report(rows: list[dict], idle: list[dict], missing: dict[str, str]) -> None:
             if wake not in by:
                 continue
             cv, poll = by[wake]["p99_us"] / by["cv"]["p99_us"], by[wake]["p99_us"] / by[polling]["p99_us"]
-            print(f"{load:<9} {by[wake]['variant']:<23} p99 / p99 condition variable = {cv:.2f}  (target <= "
+            print(f"{load:<9} {by[wake]['variant']:<28} p99 / p99 condition variable = {cv:.2f}  (target <= "
                   f"{TARGET_CV}: {'ok' if cv <= TARGET_CV else 'MISSED'});  p99 / p99 polling = {poll:.2f}  "
                   f"(target < {TARGET_POLL}: {'ok' if poll < TARGET_POLL else 'MISSED'})")
     print()
@@ -279,9 +283,9 @@ def main(argv: list[str] | None = None) -> int:
              {"versus_baseline": True}),
             ("baseline: a bare 1 kHz timer loop (timer_loop.cpp)", [str(timer), seconds], {"baseline": True})]
     if orocos_binaries:
-        runs[2:2] = [("Orocos master waiting, nothing written: event port",
-                      [str(binaries["orocos"]), "--idle", seconds], {"target": True}),
-                     ("Orocos master waiting, nothing written: wake activity + hook",
+        runs[2:2] = [("Orocos master waiting, nothing written: fd activity (before)",
+                      [str(binaries["orocos"]), "--idle", seconds], {}),
+                     ("Orocos master waiting, nothing written: generated (wake activity)",
                       [str(binaries["orocos_wake_hook"]), "--idle", seconds], {"target": True}),
                      ("Orocos master waiting, nothing written: polling 0.2 ms",
                       [str(binaries["orocos_poll"]), "--idle", seconds], {})]

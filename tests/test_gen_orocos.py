@@ -30,8 +30,8 @@ ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
 # the operations of OCL's DeploymentComponent that the generated scripts may call
-DEPLOYER_OPERATIONS = {"import", "loadComponent", "setActivity", "setFileDescriptorActivity",
-                       "setMasterSlaveActivity", "connect", "configureComponent", "startComponent", "runScript"}
+DEPLOYER_OPERATIONS = {"import", "loadComponent", "setActivity", "setMasterSlaveActivity", "connect",
+                       "configureComponent", "startComponent", "runScript"}
 CALL = re.compile(r"^(\w+)\((.*)\)$")
 POLICY_FIELD = re.compile(r"^\w+\.(?:type|size) = \d+$")  # a ConnPolicy's buffer type and size
 ARGUMENT = re.compile(r'"([^"]*)"|([\w.]+)')
@@ -121,7 +121,7 @@ def deployed(out: Path) -> tuple[dict[str, str], list[tuple[str, str]], list[str
                 loaded[arguments[0]] = arguments[1]
             elif operation == "connect":
                 connections.append((arguments[0], arguments[1]))
-            elif operation in ("setActivity", "setFileDescriptorActivity"):
+            elif operation == "setActivity":
                 assert arguments[0] in loaded and arguments[3] == "ORO_SCHED_OTHER"
             elif operation == "setMasterSlaveActivity":
                 assert arguments[0] in loaded and arguments[1] in loaded
@@ -386,8 +386,8 @@ def group_is_gone(group: int) -> bool:
 
 def at_period(deploy: Path, folder: Path, period: float) -> Path:
     """A copy of deploy/ whose periodic masters run every `period` seconds (the scripts'
-    setActivity, as a user sets it); the masters activated by buffer groups keep their
-    file-descriptor activity, which data and their deadlines wake."""
+    setActivity, as a user sets it); the masters activated by buffer groups keep their own
+    activity, which data and their deadlines wake."""
     shutil.copytree(deploy, folder)
     for script in folder.glob("*.ops"):
         text = script.read_text()

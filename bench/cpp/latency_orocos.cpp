@@ -12,7 +12,7 @@
 // ready() every period (the generated master before). With -DEARL_OROCOS_ACTIVITY=1 the event
 // port triggers RTT's plain non-periodic Activity (a semaphore post; it has no timeout, so it
 // could not wake at a deadline: for comparison only). With -DEARL_OROCOS_WAKE=1 the activity is
-// earl::rtt::WakeActivity (rtt_wake_activity.hpp): its thread
+// earl::rtt::WakeActivity (transforms/orocos/runtime/earl/rtt_wake_activity.hpp): its thread
 // sleeps on an earl wake word (a futex) with the subsystem's next deadline, and a trigger is
 // the word's notify. With -DEARL_OROCOS_WAKE=2 also the master's dataOnPortHook() (RTT runs it
 // in the writer's thread) asks the activity for an update step at once (timeout()) instead of
@@ -49,7 +49,7 @@
 #define EARL_OROCOS_FD (!EARL_OROCOS_POLL && !EARL_OROCOS_ACTIVITY && !EARL_OROCOS_WAKE)
 
 #if EARL_OROCOS_WAKE
-#include "rtt_wake_activity.hpp"
+#include "earl/rtt_wake_activity.hpp"
 #endif
 
 namespace {
@@ -157,9 +157,9 @@ int ORO_main(int argc, char** argv) {
   master.stop();
   const char* variant = EARL_OROCOS_POLL       ? "orocos polling 0.2 ms"
                         : EARL_OROCOS_ACTIVITY ? "orocos plain Activity"
-                        : EARL_OROCOS_WAKE == 2 ? "orocos wake act. + hook"
-                        : EARL_OROCOS_WAKE     ? "orocos wake activity"
-                                               : "orocos event port";
+                        : EARL_OROCOS_WAKE == 2 ? "orocos master (generated)"
+                        : EARL_OROCOS_WAKE     ? "orocos wake act., no hook"
+                                               : "orocos fd activity (before)";
   latency::report(variant, reader.samples, reader.empty, "iterations_without_data");
   return 0;
 }

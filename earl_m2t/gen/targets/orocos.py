@@ -5,7 +5,7 @@ and user files."""
 
 from __future__ import annotations
 
-from earl_m2t.gen.engine import load_target
+from earl_m2t.gen.engine import load_target, target_dir
 from earl_m2t.gen.engine import render as render_template
 from earl_m2t.gen.rendered import Rendered, put_file
 from earl_m2t.gen.target import Renderer, TargetRun, View, Views
@@ -26,6 +26,10 @@ def _render(run: TargetRun) -> Rendered:
     view = run.views.get(VIEW)
     env = run.environment()
     generated = cpp.runtime_and_headers(cpp_files, "")
+    runtime = target_dir(run.name) / "runtime"  # the RTT side of the runtime, beside the C++ target's
+    for path in sorted(runtime.rglob("*")):
+        if path.is_file():
+            put_file(generated, "runtime/" + path.relative_to(runtime).as_posix(), path.read_bytes())
     groups, system = run.spec["templates"], view.system
     for template, pattern in sorted(groups["system"].items()):
         put_file(generated, pattern, render_template(env, template, system=system))

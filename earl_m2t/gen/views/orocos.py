@@ -407,6 +407,7 @@ def _definition(model: EarlModel, sub: Subsystem, definition: Data, model_ns: st
         "buffers": buffers, "pfs": pfs, "predicates": predicates, "conditions": conditions,
         "fabric": fabric, "fabric_note": note, "model": definition["comment"], "trace": sub.path,
         "event_driven": bool(definition["activations"]), "period_ns": round(target.period * 1e9),
+        "priority": target.priority, "scheduler": target.scheduler,
     }
 
 

@@ -1,6 +1,5 @@
-// bench/latency.py's prototype of an activity for an event-driven Orocos master (RTT 2.x), not
-// (yet) part of the generated code: docs/orocos-target.md, "Faster wake-up paths"; header-only,
-// C++17, Linux.
+// earl runtime for Orocos RTT 2.x: the activity of an event-driven master component. Part of
+// earl-m2t's Orocos target (docs/orocos-target.md, Activation); header-only, C++17, Linux.
 //
 // A non-periodic RTT::Activity (its own thread, scheduler, priority and CPU affinity, stopped
 // and started as any other) whose thread sleeps on an earl::Wake word (a futex) until the
