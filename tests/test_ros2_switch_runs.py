@@ -48,6 +48,7 @@ from tests.support.switch_checks import (
     cpp_trace,
     latencies_ms,
     latency_summary,
+    notable,
     switch_timeouts_ms,
     switches,
     undelivered,
@@ -197,12 +198,6 @@ def launch(ws: Path, jazzy: ros2.Installation, folder: Path, seen: Callable[[Lin
 def report(sample: str, latencies: list[float], seconds: list[float]) -> None:
     print(f"\n{sample}: {len(seconds)} launches, {latency_summary(latencies)}; launch median "
           f"{sorted(seconds)[len(seconds) // 2]:.2f} s, longest {max(seconds):.2f} s")
-
-
-def notable(lines: Lines) -> str:
-    """What a failed launch said of the switch, errors and deaths, and its end."""
-    said = [line for line in lines if re.search(r"^switch |undelivered|WARN|ERROR|died|manager", line)]
-    return "\n".join(said[:40] + ["..."] + lines[-20:])
 
 
 # ------------------------------------------------------------------ two_arm

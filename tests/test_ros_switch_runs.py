@@ -50,6 +50,7 @@ from tests.support.switch_checks import (
     cpp_trace,
     latencies_ms,
     latency_summary,
+    notable,
     switch_timeouts_ms,
     switches,
     undelivered,
@@ -196,7 +197,7 @@ def test_two_arm_launches_under_load_hand_every_command_over(
             latencies += latencies_ms(lines)
             found = two_arm_problems(lines, reached, two_arm_switches, timeouts)
             if found:
-                failures.append(f"launch {attempt + 1}: {found}")
+                failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
     report("two_arm", latencies, seconds)
     assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures)
 
@@ -258,7 +259,7 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
             latencies += latencies_ms(lines)
             found = harmoniser_problems(lines, reached, expected, timeouts)
             if found:
-                failures.append(f"launch {attempt + 1}: {found}")
+                failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
     report("harmoniser", latencies, seconds)
     assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures)
 

@@ -36,6 +36,12 @@ def undelivered(lines: list[str]) -> list[str]:
     return [line for line in lines if "undelivered at switch" in line or "overflowed" in line]
 
 
+def notable(lines: list[str]) -> str:
+    """What a failed launch said of the switch, errors and deaths, and its end."""
+    said = [line for line in lines if re.search(r"^switch |undelivered|WARN|ERROR|died|manager", line)]
+    return "\n".join(said[:40] + ["..."] + lines[-20:])
+
+
 # ------------------------------------------------------------------ two_arm
 
 class TwoArm:
