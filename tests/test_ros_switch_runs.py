@@ -38,6 +38,7 @@ from tests.support.ros_launch import (
     catkin_make,
     clear_start_barrier,
     environment,
+    forget_nodes,
     generate,
     needs_catkin,
     needs_roslaunch,
@@ -102,6 +103,7 @@ def launch(ws: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy], seen: Ca
            ) -> tuple[Lines, bool, float]:
     """One launch of the system until ``seen``: (its output, stripped, whether seen, seconds)."""
     home, port, master = core
+    forget_nodes(master)  # the previous launch's, killed without unregistering
     clear_start_barrier(master)
     bringup = next(p.parent.name for p in (ws / "src").glob("*_bringup/package.xml"))
     started = time.monotonic()

@@ -107,3 +107,34 @@ def roscore(home: Path) -> Iterator[tuple[int, xmlrpc.client.ServerProxy]]:
         yield port, xmlrpc.client.ServerProxy(f"http://127.0.0.1:{port}")
     finally:
         stop(core)
+
+
+def forget_nodes(master: xmlrpc.client.ServerProxy, keep: str = "/rosout") -> None:
+    """Unregisters every node but ``keep`` from the master. A launch stopped with SIGKILL leaves
+    its nodes registered; when a node of the next launch registers under the same name, the
+    master tells the old node's address to shut down, and whichever new process took over that
+    port dies ("new node registered with same name")."""
+    caller = "/earl_test"
+    _, _, (publishers, subscribers, services) = master.getSystemState(caller)
+    addresses: dict[str, str] = {}
+
+    def address(node: str) -> str | None:
+        if node not in addresses:
+            code, _, uri = master.lookupNode(caller, node)
+            addresses[node] = uri if code == 1 else ""
+        return addresses[node] or None
+
+    for topic, nodes in publishers:
+        for node in nodes:
+            if node != keep and (uri := address(node)):
+                master.unregisterPublisher(node, topic, uri)
+    for topic, nodes in subscribers:
+        for node in nodes:
+            if node != keep and (uri := address(node)):
+                master.unregisterSubscriber(node, topic, uri)
+    for service, nodes in services:
+        for node in nodes:
+            if node != keep:
+                code, _, service_uri = master.lookupService(caller, service)
+                if code == 1:
+                    master.unregisterService(node, service, service_uri)
