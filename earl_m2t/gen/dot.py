@@ -75,12 +75,11 @@ def run_dot(source: bytes, fmt: str, name: str = "graph", cpu_seconds: int = CPU
         raise DotError(f"cannot run dot: {error.strerror or error}") from None
     if code == -signal.SIGXCPU:
         raise DotError(f"dot used more than {cpu_seconds} s of CPU time on {name}")
-    done = subprocess.CompletedProcess(command, code, stdout, stderr)
-    messages = tuple(line.strip() for line in done.stderr.decode("utf-8", "replace").splitlines() if line.strip())
-    if done.returncode != 0 or not done.stdout:
-        detail = messages[0] if messages else f"exit code {done.returncode}"
+    messages = tuple(line.strip() for line in stderr.decode("utf-8", "replace").splitlines() if line.strip())
+    if code != 0 or not stdout:
+        detail = messages[0] if messages else f"exit code {code}"
         raise DotError(f"dot failed on {name}: {detail}")
-    output = _VERSION_COMMENT.sub(b"", done.stdout) if fmt == "svg" else done.stdout
+    output = _VERSION_COMMENT.sub(b"", stdout) if fmt == "svg" else stdout
     return DotResult(output, messages)
 
 
