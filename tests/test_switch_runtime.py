@@ -13,7 +13,8 @@ The checks:
 * a short switch timeout: the switch ends by it within the timeout, and every command is
   received or counted undelivered, never both, never lost silently;
 * rounds: a node that acknowledges the stop late makes the coordinator force it after the
-  others acknowledged it; they acknowledge the forced round again and the switch ends;
+  others acknowledged it; they acknowledge the forced round again and the switch ends; with
+  every round slowed as well, it still ends by its timeout;
 * threaded, one busy process per CPU: the same in every run, 0 heap allocations while running;
 * sensitivity control: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``, test-only)
   fails these checks in at least one run, so the checks can fail.
@@ -134,6 +135,19 @@ def test_a_stop_forced_after_some_nodes_acknowledged_it_is_acknowledged_again(tm
     s = summary(run(rounds, "--cycles", "6000", "--late-stop-ack", "100"))
     assert s["switches"] == SWITCHES and s["timeouts"] == SWITCHES, s
     assert s["max_latency_cycles"] <= TIMEOUT_MS
+    assert s["sent"] == s["received"] == (SWITCHES + 1) * PER and s["lost"] == s["undelivered"] == 0
+
+
+def test_slow_rounds_force_the_stop_earlier_so_the_switch_still_ends_by_its_timeout(tmp_path: Path) -> None:
+    """Besides the late stop, manipB/a's node answers every round three loops late (a busy node,
+    a slow transport): the rounds a forced switch still takes are each that much slower, so
+    the coordinator must force the stop that much earlier, from the rounds it measured, for
+    the switch to end by its timeout. Forcing a fixed poll per round before it ends 12 cycles
+    late."""
+    rounds = build(SOURCES["rounds"], tmp_path)
+    s = summary(run(rounds, "--cycles", "8000", "--late-stop-ack", "100", "--slow-acks", "3"))
+    assert s["switches"] == SWITCHES and s["timeouts"] == SWITCHES, s
+    assert s["max_latency_cycles"] <= TIMEOUT_MS, s
     assert s["sent"] == s["received"] == (SWITCHES + 1) * PER and s["lost"] == s["undelivered"] == 0
 
 

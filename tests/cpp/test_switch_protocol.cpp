@@ -10,6 +10,8 @@
 //            --late-stop-ack L: manipA/a's node answers an unforced stop round only after L of
 //            its loops (a node asleep until its next data), so that the coordinator forces the
 //            stop after the other nodes acknowledged it; they must acknowledge the forced one
+//            --slow-acks K: manipB/a's node answers every round only after K of its loops (a
+//            slow transport, or a busy node), so that each round takes K loops more
 //
 // The last line is the summary tests/test_switch_runtime.py reads (the same checks as
 // test_switch.cpp's), plus "dropped": values a Pipe could not take (the transport lost them).
@@ -114,6 +116,7 @@ struct System {
   StatusLink statusA, statusB;
   std::uint64_t sentCommand = 0, sentA = 0, sentB = 0;
   std::uint64_t lateStopAck = 0, heldStopA = 0;  // --late-stop-ack
+  std::uint64_t slowAcks = 0, heldB = 0;  // --slow-acks
   Command_ lastCommandA{};
 
   System() noexcept {
@@ -169,11 +172,14 @@ struct System {
 
   void nodeB(earl::Component::Clock::time_point now) noexcept {
     Command_ c;
-    while (net.commands[1].pop(c)) memberB.command(c);
+    while (net.commands[1].pop(c)) {
+      memberB.command(c);
+      heldB = 0;
+    }
     Command value;
     while (net.toB.pop(value)) memberB.deliver(1, inB, value);
     Ack ack;
-    if (memberB.boundary(ack)) net.acks[1].push(ack);
+    if (heldB++ >= slowAcks && memberB.boundary(ack)) net.acks[1].push(ack);
     if (manipB.ready(now)) manipB.updateHook();
     if (manipB.status.sent() != sentB) {
       sentB = manipB.status.sent();
@@ -260,7 +266,8 @@ void runNode(Step step, std::chrono::nanoseconds period, const std::atomic<bool>
 
 int usage(const char* program) {
   std::fprintf(stderr,
-               "usage: %s (--cycles N | --threaded) [--switches S] [--per P] [--timeout-ms T] [--late-stop-ack L] [--quiet]\n",
+               "usage: %s (--cycles N | --threaded) [--switches S] [--per P] [--timeout-ms T] [--late-stop-ack L]"
+               " [--slow-acks K] [--quiet]\n",
                program);
   return 2;
 }
@@ -283,6 +290,8 @@ int main(int argc, char** argv) {
       settings.timeoutNs = static_cast<std::int64_t>(std::strtod(argv[++i], nullptr) * 1e6);
     } else if (std::strcmp(argv[i], "--late-stop-ack") == 0 && i + 1 < argc) {
       theSystem().lateStopAck = std::strtoull(argv[++i], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--slow-acks") == 0 && i + 1 < argc) {
+      theSystem().slowAcks = std::strtoull(argv[++i], nullptr, 10);
     } else if (std::strcmp(argv[i], "--quiet") == 0) {
       quiet = true;
     } else {

@@ -30,6 +30,7 @@
 // iterations. Part of earl-m2t's C++ target; header-only, C++17.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstddef>
@@ -383,6 +384,7 @@ class SwitchCoordinator final : public SwitchControl {
       if ((round == SwitchRound::drain || round == SwitchRound::stop) && !command_.forced && timedOut()) force();
       return false;
     }
+    measure(round);
     switch (round) {
       case SwitchRound::close:
 #if EARL_SWITCH_DRAIN
@@ -428,7 +430,21 @@ class SwitchCoordinator final : public SwitchControl {
     command_.round = round;
     acked_.fill(false);
     acks_ = 0;
+    roundPolls_ = polls_;
+    if (!cycles_) roundStarted_ = Clock::now();
     if (send_ != nullptr) send_(context_, command_);
+  }
+
+  /// A round every node acknowledged: how long it took, when only the transport and the nodes'
+  /// iteration boundaries made it wait (not the drain and the stop, which wait for the agents).
+  /// The slowest recent one is what each round after a forced stop is expected to take: a
+  /// slower round counts at once, and its weight fades by an eighth per round since.
+  void measure(SwitchRound round) noexcept {
+    if (round == SwitchRound::drain || round == SwitchRound::stop) return;
+    const std::int64_t took =
+        cycles_ ? static_cast<std::int64_t>(polls_ - roundPolls_)
+                : std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - roundStarted_).count();
+    slowestRound_ = std::max(took, slowestRound_ - slowestRound_ / 8);
   }
 
   void force() noexcept {
@@ -441,18 +457,22 @@ class SwitchCoordinator final : public SwitchControl {
     return coordinator_ != nullptr ? coordinator_->period() : std::chrono::nanoseconds(std::chrono::milliseconds(1));
   }
 
-  /// A forced switch still takes its stop, park, activate and open rounds, a poll each at the
-  /// least: it is forced that many polls before the timeout, so that it ends by the timeout
-  /// when every node answers within a period of the coordinator.
+  /// A forced switch still takes its stop, park, open and activate rounds, each at least a poll
+  /// and as long as the slowest recent round (measure()): it is forced that long before the
+  /// timeout, so that it ends by the timeout when those rounds are no slower.
   static constexpr std::int64_t kRoundsAfterForce = 4;
 
   bool timedOut() const noexcept {
     const std::int64_t timeout = tables_.timeoutNs[target_];
     if (timeout < 0) return false;
     const std::int64_t p = period().count() > 0 ? period().count() : 1;
-    if (cycles_) return static_cast<std::int64_t>(polls_) + kRoundsAfterForce >= (timeout + p - 1) / p;
+    if (cycles_) {
+      const std::int64_t round = std::max<std::int64_t>(1, slowestRound_);
+      return static_cast<std::int64_t>(polls_) + kRoundsAfterForce * round >= (timeout + p - 1) / p;
+    }
     const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
-    return elapsed + (kRoundsAfterForce + 1) * p >= timeout;
+    // on the clock, rounds vary with the load: half the slowest one again for that
+    return elapsed + p + kRoundsAfterForce * std::max(p, slowestRound_ + slowestRound_ / 2) >= timeout;
   }
 
   void report() noexcept {
@@ -489,6 +509,9 @@ class SwitchCoordinator final : public SwitchControl {
   std::uint32_t seq_ = 0;
   std::uint64_t polls_ = 0;
   Clock::time_point started_{};
+  std::uint64_t roundPolls_ = 0;  // polls_ when the current round was sent
+  Clock::time_point roundStarted_{};
+  std::int64_t slowestRound_ = 0;  // in polls when counting cycles, else in ns
   std::uint64_t switches_ = 0;
   std::uint64_t timeouts_ = 0;
   std::uint64_t undelivered_ = 0;
