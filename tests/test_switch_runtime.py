@@ -139,13 +139,13 @@ def test_a_stop_forced_after_some_nodes_acknowledged_it_is_acknowledged_again(tm
 
 
 def test_slow_rounds_force_the_stop_earlier_so_the_switch_still_ends_by_its_timeout(tmp_path: Path) -> None:
-    """Besides the late stop, manipB/a's node answers every round three loops late (a busy node,
+    """Besides the late stop, manipB/a's node answers every round two loops late (a busy node,
     a slow transport): the rounds a forced switch still takes are each that much slower, so
     the coordinator must force the stop that much earlier, from the rounds it measured, for
-    the switch to end by its timeout. Forcing a fixed poll per round before it ends 12 cycles
+    the switch to end by its timeout. Forcing a fixed poll per round before it ends 8 cycles
     late."""
     rounds = build(SOURCES["rounds"], tmp_path)
-    s = summary(run(rounds, "--cycles", "8000", "--late-stop-ack", "100", "--slow-acks", "3"))
+    s = summary(run(rounds, "--cycles", "8000", "--late-stop-ack", "100", "--slow-acks", "2"))
     assert s["switches"] == SWITCHES and s["timeouts"] == SWITCHES, s
     assert s["max_latency_cycles"] <= TIMEOUT_MS, s
     assert s["sent"] == s["received"] == (SWITCHES + 1) * PER and s["lost"] == s["undelivered"] == 0

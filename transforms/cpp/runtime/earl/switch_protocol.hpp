@@ -459,20 +459,27 @@ class SwitchCoordinator final : public SwitchControl {
 
   /// A forced switch still takes its stop, park, open and activate rounds, each at least a poll
   /// and as long as the slowest recent round (measure()): it is forced that long before the
-  /// timeout, so that it ends by the timeout when those rounds are no slower.
+  /// timeout, so that it ends by the timeout when those rounds are no slower. Never more than
+  /// a quarter of the timeout before it, though: one starved round must not cut the drain of
+  /// the next switches short (values a forced switch clears are lost to the receiver).
   static constexpr std::int64_t kRoundsAfterForce = 4;
+  static constexpr std::int64_t kMostReservedPart = 4;  // of the timeout
 
   bool timedOut() const noexcept {
     const std::int64_t timeout = tables_.timeoutNs[target_];
     if (timeout < 0) return false;
     const std::int64_t p = period().count() > 0 ? period().count() : 1;
     if (cycles_) {
-      const std::int64_t round = std::max<std::int64_t>(1, slowestRound_);
-      return static_cast<std::int64_t>(polls_) + kRoundsAfterForce * round >= (timeout + p - 1) / p;
+      const std::int64_t polls = (timeout + p - 1) / p;
+      const std::int64_t reserve = kRoundsAfterForce * std::max<std::int64_t>(1, slowestRound_);
+      const std::int64_t reserved = std::max(kRoundsAfterForce, std::min(reserve, polls / kMostReservedPart));
+      return static_cast<std::int64_t>(polls_) + reserved >= polls;
     }
     const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
     // on the clock, rounds vary with the load: half the slowest one again for that
-    return elapsed + p + kRoundsAfterForce * std::max(p, slowestRound_ + slowestRound_ / 2) >= timeout;
+    const std::int64_t reserve = p + kRoundsAfterForce * std::max(p, slowestRound_ + slowestRound_ / 2);
+    const std::int64_t reserved = std::max((kRoundsAfterForce + 1) * p, std::min(reserve, timeout / kMostReservedPart));
+    return elapsed + reserved >= timeout;
   }
 
   void report() noexcept {
