@@ -348,10 +348,13 @@ def script_calls(deploy: Path, operation: str) -> list[list[str]]:
 def run_deployer(deploy: Path, env: dict[str, str], until: str, seconds: float) -> tuple[list[str], int, int]:
     """Runs `deployer -s system.ops` headless (no terminal on stdin) from deploy/ until manip/a.cs
     reaches the state `until` or the time is up, then stops it with SIGINT as a user would.
-    Returns (its output lines, its exit status, the process group that must be gone)."""
-    process = subprocess.Popen(["deployer", "-l", "info", "-s", "system.ops"], cwd=deploy, env=env,
-                               stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                               start_new_session=True)
+    Returns (its output lines, its exit status, the process group that must be gone); its stderr,
+    where RTT's logger writes a line in pieces that another thread's line could land between,
+    goes to deploy/deployer.stderr."""
+    with open(deploy / "deployer.stderr", "wb") as stderr:
+        process = subprocess.Popen(["deployer", "-l", "info", "-s", "system.ops"], cwd=deploy, env=env,
+                                   stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=stderr,
+                                   start_new_session=True)
     assert process.stdout is not None
     lines: list[str] = []
     buffered = ""
@@ -426,7 +429,8 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
             failures.append(f"run 1: {deployer_states(lines)}\n{trace[-1500:]}")
         # OCL's own log: every component of the scripts loaded, every connection made, no error
         log = (deploy / "orocos.log").read_text(errors="replace").splitlines()
-        assert not [line for line in lines + log if ERROR.search(line)], trace
+        stderr = (deploy / "deployer.stderr").read_text(errors="replace").splitlines()
+        assert not [line for line in lines + stderr + log if ERROR.search(line)], trace
         loaded = {m.group(1) for m in map(LOADED.search, log) if m}
         assert loaded == {arguments[0] for arguments in script_calls(deploy, "loadComponent")}
         assert len(loaded) == 41
@@ -439,7 +443,7 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
         for attempt in range(1, LOADED_RUNS):
             lines, reached = run_until(["deployer", "-l", "info", "-s", "system.ops"],
                                        lambda out: "emergencyStop" in deployer_states(out), 60, env, cwd=deploy,
-                                       graceful=False)
+                                       graceful=False, stderr=deploy / "deployer.stderr")
             if not reached or deployer_states(lines)[:4] != SEQUENCE:
                 failures.append(f"run {attempt + 1}: {deployer_states(lines)}\n" + "\n".join(lines[-30:]))
     assert not failures, (f"{len(failures)} of {LOADED_RUNS} deployments missed the sequence:\n"

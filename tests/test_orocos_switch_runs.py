@@ -16,6 +16,8 @@ CPU. The switch runs between components as earl/switch_protocol.hpp's rounds ove
 * sensitivity control: a build whose switch skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails
   the two_arm checks in at least one of 50 deployments.
 
+The deployer's stderr, where RTT's logger writes, is read apart from the lines the samples print:
+the logger writes a line in pieces, and a sample's line landed inside one, lost to the checks.
 Each deployment is stopped as soon as its last awaited line is printed. With ``-s`` the median
 and worst switch latency of each sample's campaign are printed.
 """
@@ -120,11 +122,13 @@ class Deployer:
 
     def run(self, seen: Callable[[list[str]], bool]) -> tuple[list[str], list[str]]:
         """One deployment, stopped once ``seen``; (its output, what goes wrong besides the sample's checks)."""
+        stderr = self.deploy / "deployer.stderr"
         lines, ok = run_until(["deployer", "-l", "info", "-s", "system.ops"], seen, RUN_TIMEOUT, self.env,
-                              cwd=self.deploy, graceful=False)
+                              cwd=self.deploy, graceful=False, stderr=stderr)
         found = [] if ok else [f"not done in {RUN_TIMEOUT} s: " + " | ".join(lines[-5:])]
         log = (self.deploy / "orocos.log").read_text(errors="replace").splitlines()
-        found += [line for line in lines + log if ERROR.search(line) or "value sent is lost" in line][:3]
+        logged = lines + stderr.read_text(errors="replace").splitlines() + log
+        found += [line for line in logged if ERROR.search(line) or "value sent is lost" in line][:3]
         connected = sorted((m.group(1), m.group(2)) for m in map(CONNECTED.search, log) if m)
         if connected != self.connects:
             found.append(f"{len(connected)} connections made, the scripts make {len(self.connects)}")

@@ -65,7 +65,7 @@ def deploy(deployment: tuple[Path, dict[str, str]], fault: str, until: str) -> t
     log = folder / "orocos.log"
     log.unlink(missing_ok=True)
     lines, reached = run_until(["deployer", "-l", "info", "-s", "system.ops"], done, TIMEOUT,
-                               {**env, "EARL_FAULT": fault}, cwd=folder)
+                               {**env, "EARL_FAULT": fault}, cwd=folder, stderr=folder / "deployer.stderr")
     assert reached, f"{until!r} and {AFTER} more iterations not seen:\n" + "\n".join(lines[-60:])
     return lines, log.read_text(errors="replace").splitlines()
 

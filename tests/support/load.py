@@ -13,7 +13,7 @@ import subprocess
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 HOG = "while True:\n    pass\n"
@@ -45,13 +45,19 @@ def line_buffered(command: Sequence[str | Path]) -> list[str]:
 
 def run_until(command: Sequence[str | Path], seen: Callable[[list[str]], bool], timeout: float,
               env: dict[str, str] | None = None, cwd: Path | None = None,
-              graceful: bool = True) -> tuple[list[str], bool]:
-    """Run ``command`` and read its output (stdout and stderr) line by line until ``seen(lines)``
-    holds or ``timeout`` seconds passed; then stop it, its whole process group: with SIGINT
-    first when ``graceful``, else at once with SIGKILL (nothing of the run is needed after
-    ``seen``). Returns the lines and whether ``seen`` held."""
-    process = subprocess.Popen(line_buffered(command), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                               stdin=subprocess.DEVNULL, env=env, cwd=cwd, text=True, start_new_session=True)
+              graceful: bool = True, stderr: Path | None = None) -> tuple[list[str], bool]:
+    """Run ``command`` and read its output (stdout, and stderr unless ``stderr`` names a file to
+    write it to) line by line until ``seen(lines)`` holds or ``timeout`` seconds passed; then
+    stop it, its whole process group: with SIGINT first when ``graceful``, else at once with
+    SIGKILL (nothing of the run is needed after ``seen``). Returns the lines and whether
+    ``seen`` held.
+
+    A program whose logger writes a line in pieces to unbuffered stderr (RTT's writes its time
+    and level, then the message) gets a line printed by another thread in between when both
+    streams share one pipe: give such a program's stderr a file of its own."""
+    with open(stderr, "wb") if stderr else nullcontext(subprocess.STDOUT) as error_output:
+        process = subprocess.Popen(line_buffered(command), stdout=subprocess.PIPE, stderr=error_output,
+                                   stdin=subprocess.DEVNULL, env=env, cwd=cwd, text=True, start_new_session=True)
     lines: list[str] = []
     done = threading.Event()
 
