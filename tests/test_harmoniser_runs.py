@@ -34,9 +34,9 @@ USER = SAMPLE.parent / "user"
 # GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
-CYCLES = 140
+CYCLES = 230
 LOADED_RUNS = loaded_runs()
-THREADED_SECONDS = 0.5  # the fall is at the lidar's 40th scan, the person up at its 70th: 1 ms each
+THREADED_SECONDS = 0.5  # the fall is at the lidar's 40th scan, the person up at its 160th: 1 ms each
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
                                 reason="g++ and cmake are needed")

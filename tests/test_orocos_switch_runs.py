@@ -196,7 +196,7 @@ def harmoniser_cpp_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tu
     folder = tmp_path_factory.mktemp("harmoniser_cpp")
     binary = cmake_build(generate_with_user_code(HARMONISER, HARMONISER.parent / "user", folder / "out"),
                          folder / "build", "Harmoniser_system")
-    return switches(run(binary, "--cycles", "140").splitlines())
+    return switches(run(binary, "--cycles", "230").splitlines())
 
 
 def test_harmoniser_deployments_under_load_resume_the_guide_agent(

@@ -279,7 +279,7 @@ def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, s
 
 @pytest.fixture(scope="module")
 def harmoniser_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str]]:
-    trace = cpp_trace(HARMONISER, tmp_path_factory.mktemp("harmoniser_cpp"), "Harmoniser_system", 140)
+    trace = cpp_trace(HARMONISER, tmp_path_factory.mktemp("harmoniser_cpp"), "Harmoniser_system", 230)
     assert switches(trace) == Harmoniser.SWITCHES
     return switches(trace)
 

@@ -247,7 +247,7 @@ def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, s
 def test_harmoniser_launches_under_load_resume_the_guide_agent(
         harmoniser: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy],
         tmp_path_factory: pytest.TempPathFactory) -> None:
-    trace = cpp_trace(HARMONISER, tmp_path_factory.mktemp("harmoniser_cpp"), "Harmoniser_system", 140)
+    trace = cpp_trace(HARMONISER, tmp_path_factory.mktemp("harmoniser_cpp"), "Harmoniser_system", 230)
     expected = switches(trace)
     assert expected == Harmoniser.SWITCHES
     timeouts = switch_timeouts_ms(harmoniser)
