@@ -93,14 +93,21 @@ def violations(s: dict[str, int | str], timeout_ms: float = TIMEOUT_MS) -> list[
         found.append(f"switches {s['switches']}")
     if int(s["max_latency_ns"]) > timeout_ms * 1e6:
         found.append(f"latency {s['max_latency_ns']} ns")
+    if s["forced"] != s["timeouts"]:
+        found.append(f"{s['timeouts']} timeouts, {s['forced']} switches reported forced")
     return found
+
+
+def forced_lines(lines: list[str]) -> int:
+    """The switch lines that say the switch was forced."""
+    return sum(line.startswith("switch ") and line.endswith(" (forced)") for line in lines)
 
 
 def test_the_deterministic_run_is_repeatable_and_loses_nothing(drained: Path) -> None:
     first = run(drained, "--cycles", "3000")
     assert run(drained, "--cycles", "3000") == first
     s = summary(first)
-    assert violations(s) == []
+    assert violations(s) == [] and s["forced"] == 0
     switches = [SWITCH_LINE.match(line) for line in first if line.startswith("switch ")]
     assert len(switches) == SWITCHES and all(switches)
     assert all(1 <= int(m.group(2)) <= TIMEOUT_MS for m in switches if m)  # 1 cycle = 1 ms
@@ -119,6 +126,7 @@ def test_a_switch_ends_by_its_timeout_and_counts_what_it_clears(drained: Path) -
     lines = run(drained, "--cycles", "3000", "--timeout-ms", "5")
     s = summary(lines)
     assert s["timeouts"] == SWITCHES and s["switches"] == SWITCHES
+    assert s["forced"] == forced_lines(lines) == SWITCHES  # each switch line says so
     assert s["max_latency_cycles"] <= 5
     assert int(s["undelivered"]) > 0 and s["lost"] == s["undelivered"]  # counted once, never silent
     assert s["duplicates"] == s["misrouted"] == s["out_of_order"] == s["overlaps"] == 0
@@ -132,8 +140,10 @@ def test_a_stop_forced_after_some_nodes_acknowledged_it_is_acknowledged_again(tm
     coordinator forces the stop after the other nodes acknowledged the unforced one, and the
     switch must still end, by its timeout, with every command delivered."""
     rounds = build(SOURCES["rounds"], tmp_path)  # the one-process switch has no acknowledgements
-    s = summary(run(rounds, "--cycles", "6000", "--late-stop-ack", "100"))
+    lines = run(rounds, "--cycles", "6000", "--late-stop-ack", "100")
+    s = summary(lines)
     assert s["switches"] == SWITCHES and s["timeouts"] == SWITCHES, s
+    assert s["forced"] == forced_lines(lines) == SWITCHES
     assert s["max_latency_cycles"] <= TIMEOUT_MS
     assert s["sent"] == s["received"] == (SWITCHES + 1) * PER and s["lost"] == s["undelivered"] == 0
 

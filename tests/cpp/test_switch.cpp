@@ -118,6 +118,7 @@ class Tally final : public earl::SwitchObserver {
   void switched(const char* from, const char* to, const earl::SwitchLatency& latency) noexcept override {
     if (latency.nanoseconds > maxNs) maxNs = latency.nanoseconds;
     if (latency.cycles > maxCycles) maxCycles = latency.cycles;
+    if (latency.forced) ++forced;
     if (next_ != nullptr) next_->switched(from, to, latency);
   }
   void undelivered(const char* link, std::uint64_t count) noexcept override {
@@ -126,6 +127,7 @@ class Tally final : public earl::SwitchObserver {
   }
   std::atomic<std::uint64_t> overflows{0};
   std::int64_t maxNs = 0;
+  std::uint64_t forced = 0;  // switches the observer was told were forced
   std::uint64_t maxCycles = 0, undeliveredCount = 0;
 
  private:
@@ -217,10 +219,10 @@ int main(int argc, char** argv) {
   std::printf(
       "summary sent %" PRIu64 " received %" PRIu64 " lost %" PRIu64 " duplicates %" PRIu64 " misrouted %" PRIu64
       " out_of_order %" PRIu64 " overlaps %" PRIu64 " undelivered %" PRIu64 " overflows %" PRIu64 " switches %" PRIu64
-      " timeouts %" PRIu64 " max_latency_ns %" PRId64 " max_latency_cycles %" PRIu64 " restarts_a %" PRIu64
+      " timeouts %" PRIu64 " forced %" PRIu64 " max_latency_ns %" PRId64 " max_latency_cycles %" PRIu64 " restarts_a %" PRIu64
       " restarts_b %" PRIu64 " statuses %s allocations %" PRIu64 "\n",
       task.seq, received, lost, duplicates, misrouted, system.manipA.outOfOrder + system.manipB.outOfOrder,
-      system.manipA.overlaps + system.manipB.overlaps, sw.undelivered(), overflows, sw.switches(), sw.timeouts(),
+      system.manipA.overlaps + system.manipB.overlaps, sw.undelivered(), overflows, sw.switches(), sw.timeouts(), tally.forced,
       tally.maxNs, tally.maxCycles, system.manipA.restarts,
       system.manipB.restarts, task.statuses > 0 ? "yes" : "no", counted);
   return 0;

@@ -12,7 +12,7 @@ from pathlib import Path
 from tests.support.cpp_sample import cmake_build, generate_with_user_code
 from tests.support.cpp_sample import run as run_cpp
 
-SWITCH = re.compile(r"^switch (\w+) -> (\w+) in (\d+(?:\.\d+)?) (cycles|ms)$")
+SWITCH = re.compile(r"^switch (\w+) -> (\w+) in (\d+(?:\.\d+)?) (cycles|ms)( \(forced\))?$")
 
 
 def switches(lines: list[str]) -> list[tuple[str, str]]:

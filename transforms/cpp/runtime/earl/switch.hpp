@@ -220,6 +220,7 @@ struct SwitchLatency {
   std::uint64_t cycles;      // coordinator iterations from the decision to the open
   std::int64_t nanoseconds;  // on the steady clock (threaded executor); 0 when counted in cycles
   bool clock;                // measured on the clock (true) or in cycles
+  bool forced;               // the switch timeout passed: the leaving agents were stopped where they were
 };
 
 /// An Observer that is also told about switches and the values a switch could not deliver.
@@ -232,7 +233,8 @@ class SwitchObserver : public Observer {
   virtual void undelivered(const char* link, std::uint64_t count) noexcept { (void)link, (void)count; }
 };
 
-/// PrintObserver's lines, and one line per switch and per link with undelivered values.
+/// PrintObserver's lines, and one line per switch (`` (forced)`` after it when its timeout
+/// stopped the leaving agents) and per link with undelivered values.
 class SwitchPrintObserver final : public SwitchObserver {
  public:
   void stateChanged(const Component& component, const char* from, const char* to, const char* via,
@@ -252,10 +254,11 @@ class SwitchPrintObserver final : public SwitchObserver {
     lines_.nonFinite(component, pf, buffer, step);
   }
   void switched(const char* from, const char* to, const SwitchLatency& latency) noexcept override {
+    const char* forced = latency.forced ? " (forced)" : "";
     if (latency.clock) {
-      std::printf("switch %s -> %s in %.3f ms\n", from, to, static_cast<double>(latency.nanoseconds) / 1e6);
+      std::printf("switch %s -> %s in %.3f ms%s\n", from, to, static_cast<double>(latency.nanoseconds) / 1e6, forced);
     } else {
-      std::printf("switch %s -> %s in %" PRIu64 " cycles\n", from, to, latency.cycles);
+      std::printf("switch %s -> %s in %" PRIu64 " cycles%s\n", from, to, latency.cycles, forced);
     }
   }
   void undelivered(const char* link, std::uint64_t count) noexcept override {
@@ -558,7 +561,7 @@ class Switch final : public SwitchControl {
       if (agent.clear_ != nullptr) agent.clear_(agent.agent_, *this);
       agent.activate();
     }
-    last_ = SwitchLatency{polls_, 0, !cycles_};
+    last_ = SwitchLatency{polls_, 0, !cycles_, forced_};
     if (!cycles_) last_.nanoseconds = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
     const std::size_t from = current_;
     current_ = target_;
@@ -581,7 +584,7 @@ class Switch final : public SwitchControl {
   std::uint64_t switches_ = 0;
   std::uint64_t timeouts_ = 0;
   std::uint64_t undelivered_ = 0;
-  SwitchLatency last_{0, 0, false};
+  SwitchLatency last_{0, 0, false, false};
 };
 
 // ------------------------------------------------------------------ subsystems

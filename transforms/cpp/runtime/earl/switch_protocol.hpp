@@ -491,7 +491,7 @@ class SwitchCoordinator final : public SwitchControl {
   }
 
   void finish() noexcept {
-    last_ = SwitchLatency{polls_, 0, !cycles_};
+    last_ = SwitchLatency{polls_, 0, !cycles_, command_.forced};
     if (!cycles_) last_.nanoseconds = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count();
     const std::size_t from = current_;
     current_ = target_;
@@ -522,7 +522,7 @@ class SwitchCoordinator final : public SwitchControl {
   std::uint64_t switches_ = 0;
   std::uint64_t timeouts_ = 0;
   std::uint64_t undelivered_ = 0;
-  SwitchLatency last_{0, 0, true};
+  SwitchLatency last_{0, 0, true, false};
 };
 
 }  // namespace earl
