@@ -12,7 +12,8 @@ every input a bound of the worker's CPU time (``--bound``, 60 s) and of the time
 (``WALL_FACTOR`` times as long: neither the worker nor a process it started running or waiting
 for a CPU, nor its CPU time growing; tests/fuzz/watch.py), and counts an input that exceeds
 either as a hang: the worker is killed and a new one goes on with the next input. A worker
-starved by a busy machine (a niced campaign beside other work) is never counted.
+starved by a busy machine (a niced campaign beside other work), or a campaign paused and
+resumed (``kill -STOP``/``-CONT`` of its process group), is never counted.
 
 An input fails (``tests/fuzz/properties.py``) on an internal error, an exit code outside its
 command's table, SPIN refusing the Promela verify wrote, a hang, a peak resident memory over
@@ -78,6 +79,10 @@ CLEAN_GEN_SKIPPED = {"diagrams-png": "renders every diagram with Graphviz: secon
 ADDRESS_SPACE = 6 << 30  # a worker's limit: a runaway read ends in MemoryError, counted as a failure
 DEFAULT_BOUND = 60.0
 WALL_FACTOR = 15
+# The parent looks at its workers about every second; a longer gap between two looks means the
+# parent itself did not run (stopped with its process group, suspended, starved), and nothing
+# can be told of the worker over it: at most this much of such a gap counts as blocked.
+LONGEST_LOOK_GAP = 5.0
 @dataclass(frozen=True)
 class Seed:
     path: Path  # a model file, or a FABRIC package's folder
@@ -322,12 +327,13 @@ class _Slot:
         self._looked = time.monotonic()
 
     def watch(self) -> float:
-        """The worker's CPU time now; the time since the last look counts as blocked unless the
-        worker used the CPU meanwhile or it (or a process it started) is runnable now."""
+        """The worker's CPU time now; the time since the last look (at most LONGEST_LOOK_GAP)
+        counts as blocked unless the worker used the CPU meanwhile or it (or a process it
+        started) is runnable now."""
         cpu = cpu_seconds(self.process.pid or 0)
         now = time.monotonic()
         if cpu == self._cpu and not runnable(self.process.pid or 0):
-            self.blocked += now - self._looked
+            self.blocked += min(now - self._looked, LONGEST_LOOK_GAP)
         self._cpu, self._looked = cpu, now
         return cpu
 

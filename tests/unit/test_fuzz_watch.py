@@ -8,7 +8,7 @@ import subprocess
 import sys
 import time
 
-from tests.fuzz.runner import _Slot
+from tests.fuzz.runner import LONGEST_LOOK_GAP, _Slot
 from tests.fuzz.watch import runnable
 
 SPIN = "while True: pass"
@@ -67,3 +67,22 @@ def test_a_worker_counts_blocked_time_only_while_it_neither_runs_nor_waits_for_a
         for slot in slots.values():
             slot.process.kill()
             slot.process.join()
+
+
+def test_a_pause_of_the_campaign_itself_is_not_counted_as_blocked() -> None:
+    """The campaign stopped with its process group (``kill -STOP``, to free the machine for a
+    while) and resumed: its first look at a sleeping worker comes long after the last one, and
+    that gap must not make a hang of the input the worker runs."""
+    context = multiprocessing.get_context("fork")
+    process = context.Process(target=_sleep, daemon=True)
+    process.start()
+    parent, _ = context.Pipe()
+    slot = _Slot(process, parent, 0)
+    try:
+        time.sleep(0.2)
+        slot._looked -= 3600.0  # the parent's last look, an hour before it was resumed
+        slot.watch()
+        assert 0.0 < slot.blocked <= LONGEST_LOOK_GAP
+    finally:
+        process.kill()
+        process.join()
