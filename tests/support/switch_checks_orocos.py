@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import re
 
-from tests.support.switch_checks import TwoArm
+from tests.support.switch_checks import SWITCH, TwoArm
 
 # ---------------------------------------------------------------- two_arm
 
@@ -26,7 +26,6 @@ TIMEOUT_MS = TwoArm.TIMEOUT_MS  # the configurations' switchTimeout, one value f
 
 SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
 TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
-SWITCH = re.compile(r"^switch (\w+) -> (\w+) in (\d+(?:\.\d+)?) (cycles|ms)( \(forced\))?$")
 
 
 def switches(lines: list[str]) -> list[tuple[str, str]]:
