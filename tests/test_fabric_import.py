@@ -134,6 +134,12 @@ def test_importing_again_writes_nothing_and_keeps_an_edited_model(imported: Path
     ("spec/subsystem.xml", 'use_ros_sim_clock="true" ', "", "<simulation> must have the attribute 'use_ros_sim_clock'"),
     ("spec/subsystem.xml", 'stop_cond="FALSE"', 'stop_cond="ready"',
      "'ready' is not a <predicate> of the subsystem"),
+    ("spec/subsystem.xml", 'stop_cond="FALSE"', f'stop_cond="{"(" * 20_000}FALSE{")" * 20_000}"',
+     "behavior 'normal' stop_cond: nested more than 200 levels deep (parentheses and 'not')"),
+    ("spec/subsystem.xml", 'stop_cond="FALSE"', f'stop_cond="{"not " * 201}FALSE"',
+     "nested more than 200 levels deep (parentheses and 'not')"),
+    ("spec/subsystem.xml", 'stop_cond="FALSE"', f'stop_cond="FALSE{" or FALSE" * 10_001}"',
+     "10,001 operators, more than the 10,000 a condition may have"),
     ("config/velma_pred_ctrl_interface.xml", '<io_buffer alias="st" name="velma_core_st2" />',
      '<io_buffer alias="st" />', "<io_buffer> must have the attribute 'name'"),
     ("config/velma_pred_ctrl_interface.xml", "</subsystem_configuration>", "", "not well-formed XML"),
@@ -155,6 +161,19 @@ def test_bad_fabric_input_is_one_line_with_file_and_line(tmp_path: Path, file: s
     line = int(lines[0].split(":")[1])
     assert line > 0
     assert not (tmp_path / "model.sysml").exists()
+
+
+def test_a_condition_nested_as_deep_as_allowed_is_imported(tmp_path: Path) -> None:
+    source = next(f for f in folders() if f.name == "velma_pred_ctrl_interface")
+    package = tmp_path / "deep"
+    shutil.copytree(source, package)
+    spec = package / "spec" / "subsystem.xml"
+    deep = "not (" * 100 + "FALSE" + ")" * 100
+    spec.write_text(spec.read_text(encoding="utf-8").replace('stop_cond="FALSE"', f'stop_cond="{deep}"', 1),
+                    encoding="utf-8")
+    result = earl("import", "fabric", str(package), "-o", str(tmp_path / "model.sysml"))
+    assert result.returncode == 0, result.stderr
+    assert earl("check", str(tmp_path / "model.sysml")).returncode == 0
 
 
 def test_packages_on_one_ipc_channel_are_linked(tmp_path: Path) -> None:

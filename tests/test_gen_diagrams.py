@@ -8,6 +8,7 @@ import json
 import re
 import shutil
 import subprocess
+from html import escape
 from pathlib import Path
 from typing import Any
 
@@ -208,6 +209,15 @@ def test_a_name_longer_than_dot_reads_is_shortened_in_the_middle_and_laid_out() 
         run_dot(f"digraph g {{ a [label=<{'A' * 30000}>]; }}".encode(), "svg", "unshortened")
     assert run_dot(f"digraph g {{ a [label=<{shown}>]; }}".encode(), "svg", "shortened").output
 
+
+
+@pytest.mark.parametrize("name", ["", "\n", "\t", "\r\n"], ids=["empty", "newline", "tab", "line-end"])
+def test_a_name_of_white_space_alone_is_shown_unnamed_and_laid_out(name: str) -> None:
+    with pytest.raises(DotError, match="syntax error"):
+        run_dot(f"digraph g {{ a [label=<robot <b>{escape(name)}</b>>]; }}".encode(), "svg", "as it is")
+    shown = html_label_text(name, 400)
+    assert shown == "(unnamed)"
+    assert run_dot(f"digraph g {{ a [label=<robot <b>{shown}</b>>]; }}".encode(), "svg", "unnamed").output
 
 def test_dot_is_bounded_by_its_cpu_time_not_by_the_clock() -> None:
     nodes = [f"n{i}" for i in range(250)]

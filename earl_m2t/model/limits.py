@@ -12,3 +12,4 @@ MAX_QUEUE = 65_536  # values a queued Input Buffer holds (queueSize)
 MAX_SECONDS = 31_536_000.0  # a period, timeout or switchTimeout: a year (in ns it fits a 64-bit integer)
 MAX_EXPANSION = 10_000  # nodes a condition's replications (any K: …, all K: …) may expand to
 MAX_OPERATORS = 10_000  # operators in one condition or expression (parsing cost grows faster than its length)
+MAX_NESTING = 200  # levels of brackets, or prefix operators in a row, in text a parser descends into

@@ -14,9 +14,8 @@ from __future__ import annotations
 
 import re
 
-from earl_m2t.model.limits import MAX_OPERATORS
+from earl_m2t.model.limits import MAX_NESTING, MAX_OPERATORS
 
-MAX_NESTING = 200
 # The parser (textX on Arpeggio, a PEG parser in pure Python) reads some 70 KB of SysML v2 text
 # a second; a larger text is refused before it is parsed, so that every command on a model ends
 # within seconds (the samples are under 30 KB). docs/untrusted-models.md lists it.
