@@ -18,11 +18,14 @@ import earl_m2t.ocl.ast as ast
 from earl_m2t.ocl.errors import OclSyntaxError
 from earl_m2t.ocl.evaluator import CompiledExpression, compile_expression
 from earl_m2t.ocl.invariant import Invariant
+from earl_m2t.ocl.limits import refuse_oversized
 from earl_m2t.resources import metamodel_path
 
 # Marks a single expression for the grammar's root rule; followed by a newline, so line
 # numbers shift by exactly one and columns not at all.
 _EXPRESSION_MARKER = "__expression__\n"
+# what a text the pre-scan lets through but the parser cannot descend (if … endif, let … in chains)
+_TOO_DEEP = "nested too deeply to parse ('if … endif' or 'let … in' inside one another): not read"
 
 
 @cache
@@ -32,6 +35,14 @@ def _metamodel() -> TextXMetaModel:
 
 def parse_invariants(text: str, file: str = "<string>") -> list[Invariant]:
     """Parse a file of invariants; raises :class:`OclSyntaxError` on the first problem."""
+    refuse_oversized(text, file)
+    try:
+        return _invariants(text, file)
+    except RecursionError:
+        raise OclSyntaxError(_TOO_DEEP, file, 1, 1) from None
+
+
+def _invariants(text: str, file: str) -> list[Invariant]:
     document = _parse(text, file, line_offset=0)
     if isinstance(document, str):  # textX gives '' for a file without any invariant
         return []
@@ -68,11 +79,15 @@ def parse_invariants(text: str, file: str = "<string>") -> list[Invariant]:
 def parse_expression(text: str) -> CompiledExpression:
     """Parse a single expression; raises :class:`OclSyntaxError` (file ``<expression>``)."""
     file = "<expression>"
-    document = _parse(_EXPRESSION_MARKER + text, file, line_offset=1)
-    if isinstance(document, str) or document.expression is None:  # cannot happen: the marker
-        raise OclSyntaxError("expected an expression", file, 1, 1)  # starts an expression
-    builder = _Builder(text, file, position_offset=len(_EXPRESSION_MARKER))
-    return compile_expression(builder.build(document.expression))
+    refuse_oversized(text, file)
+    try:
+        document = _parse(_EXPRESSION_MARKER + text, file, line_offset=1)
+        if isinstance(document, str) or document.expression is None:  # cannot happen: the marker
+            raise OclSyntaxError("expected an expression", file, 1, 1)  # starts an expression
+        builder = _Builder(text, file, position_offset=len(_EXPRESSION_MARKER))
+        return compile_expression(builder.build(document.expression))
+    except RecursionError:
+        raise OclSyntaxError(_TOO_DEEP, file, 1, 1) from None
 
 
 # ---------------------------------------------------------------------------- textX → AST

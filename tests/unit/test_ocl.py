@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import pytest
 
+from earl_m2t.deep_stack import call_with_deep_stack
 from earl_m2t.ocl import (
     Invariant,
     OclEvaluationError,
@@ -610,6 +611,28 @@ def test_an_invariant_file_cannot_hold_a_bare_expression() -> None:
         parse_invariants("__expression__ true")
     with pytest.raises(OclSyntaxError):
         parse_invariants("self.ve->size() = 1")
+
+
+@pytest.mark.parametrize(("body", "message", "where"), [
+    ("(" * 201 + "true" + ")" * 201, r"nested more than 200 levels deep \('\('\)", (2, 30 + 200)),
+    ("not " * 201 + "true", r"more than 200 prefix operators in a row \('not'\)", (2, 30)),
+    ("1 + " * 10_000 + "1 > 0", "an invariant of more than 10000 operators", (2, 1)),
+    ("let a = 1 in " * 5_000 + "true", r"nested too deeply to parse \('if … endif' or 'let … in'", (1, 1)),
+    ("if true then " * 3_000 + "true" + " else true endif" * 3_000, "nested too deeply to parse", (1, 1)),
+], ids=["parentheses", "nots", "operators", "lets", "ifs"])
+def test_a_rule_nested_or_chained_past_the_limits_is_one_syntax_error(body: str, message: str,
+                                                                     where: tuple[int, int]) -> None:
+    text = "-- severity: error\ncontext Agent inv team.deep: " + body
+    with pytest.raises(OclSyntaxError, match=message) as caught:
+        call_with_deep_stack(lambda: parse_invariants(text, "team.ocl"))
+    assert (caught.value.file, caught.value.line, caught.value.column) == ("team.ocl", *where)
+
+
+def test_a_rule_as_deep_as_allowed_parses_and_holds() -> None:
+    deepest = "(" * 200 + "not " * 100 + "not false" + ")" * 200  # 'not ' * 101 in a row: within 200
+    (invariant,) = call_with_deep_stack(lambda: parse_invariants(f"context Agent inv team.deep: {deepest}"))
+    assert check(invariant, Subsystem("s", "ve", [], [])) is True
+    assert call_with_deep_stack(lambda: evaluate(parse_expression("let a = 1 in " * 150 + "a = 1"), None)) is True
 
 
 # ---------------------------------------------------------------------------- speed
