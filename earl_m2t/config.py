@@ -98,6 +98,8 @@ def _read(file: Path) -> dict[str, Any]:
         raise ConfigError(file, f"cannot be read: {exc.strerror or exc}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ConfigError(file, f"not valid TOML: {exc}") from None
+    except RecursionError:  # tomllib descends into nested arrays and inline tables
+        raise ConfigError(file, "not read: arrays or inline tables nested too deeply") from None
 
 
 def _strings(file: Path, key: str, value: object) -> tuple[str, ...]:

@@ -307,6 +307,8 @@ def test_the_permitted_link_table_can_be_replaced(repo: Path) -> None:
     ('[permitted-links]\ninter_agent = [["cs", "xx"]]\n', "'permitted-links': 'inter_agent'"),
     ('[permitted-links]\nintra = []\n', "unknown key 'intra'"),
     ("select = [\n", "not valid TOML"),
+    ("select = " + "[" * 100_000 + "]" * 100_000 + "\n", "nested too deeply"),
+    ("x = " + "{a = " * 100_000 + "1" + "}" * 100_000 + "\n", "nested too deeply"),
 ])
 def test_configuration_errors_are_one_line_naming_file_and_key_with_exit_2(repo: Path, text: str,
                                                                          expected: str) -> None:
@@ -330,6 +332,9 @@ def test_pyproject_unknown_key_names_the_table(repo: Path) -> None:
     ("-- ok\ncontext Robott inv team.x: true\n", "rules/team.ocl:2:1:", "unknown context 'Robott'"),
     ("-- severity: fatal\ncontext Agent inv team.x: true\n", "rules/team.ocl:1:1:", "severity must be"),
     ("context Agent inv S003: true\n", "rules/team.ocl:1:1:", "is a built-in rule"),
+    ("context Agent inv team.x: " + "(" * 50_000 + "true" + ")" * 50_000, "rules/team.ocl:1:227:",
+     "nested more than 200 levels deep"),
+    ("context Agent inv team.x: " + "let a = 1 in " * 5_000 + "true", "rules/team.ocl:1:1:", "nested too deeply"),
 ])
 def test_rule_file_errors_are_one_line_with_file_line_column_and_exit_2(repo: Path, text: str, where: str,
                                                                       expected: str) -> None:
