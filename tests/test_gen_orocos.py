@@ -417,7 +417,7 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
     emergencyStop: task/a.cs's one-shot setpoint reaches manip/a.cs through a buffer connection
     (a queue of 8) and activates it, so it is never lost. The first run is stopped with SIGINT
     as a user would, and its output and OCL's log are checked in full; the others are killed
-    at once (nothing of them is needed after the sequence)."""
+    at once once in emergencyStop, and their output, stderr and OCL's log hold no error."""
     deploy = at_period(out / "deploy", tmp_path / "deploy", LOADED_PERIOD)
     assert "queue8.size = 8" in (deploy / "system.ops").read_text()
     env = rtt.environment([installed / "lib" / "orocos"])
@@ -446,5 +446,10 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
                                        graceful=False, stderr=deploy / "deployer.stderr")
             if not reached or deployer_states(lines)[:4] != SEQUENCE:
                 failures.append(f"run {attempt + 1}: {deployer_states(lines)}\n" + "\n".join(lines[-30:]))
+            written = [(deploy / name).read_text(errors="replace").splitlines()
+                       for name in ("deployer.stderr", "orocos.log")]
+            errors = [line for line in lines + written[0] + written[1] if ERROR.search(line)]
+            if errors:
+                failures.append(f"run {attempt + 1}: {len(errors)} error line(s), first: {errors[0]}")
     assert not failures, (f"{len(failures)} of {LOADED_RUNS} deployments missed the sequence:\n"
                           + "\n".join(failures[:3]))
