@@ -23,7 +23,7 @@ _OPERATOR = re.compile(r"(?<![\w])(?:and|or|xor|implies|not)(?![\w])|<>|<=|>=|[=
 _INVARIANT_START = re.compile(r"(?<![\w])context(?![\w])")
 
 
-def refuse_oversized(text: str, file: str, line_offset: int = 0) -> None:
+def refuse_oversized(text: str, file: str) -> None:
     """Raise :class:`OclSyntaxError` where ``text`` nests or chains beyond the limits."""
     code = _SKIPPED.sub(lambda skipped: " " * len(skipped.group(0)), text)
     depth = 0
@@ -31,23 +31,23 @@ def refuse_oversized(text: str, file: str, line_offset: int = 0) -> None:
         if parenthesis.group(0) == "(":
             depth += 1
             if depth > MAX_NESTING:
-                _refuse(text, file, line_offset, parenthesis.start(),
+                _refuse(text, file, parenthesis.start(),
                         f"nested more than {MAX_NESTING} levels deep ('('): not read")
         else:
             depth = max(depth - 1, 0)
     run = _PREFIX_RUN.search(code)
     if run is not None:
-        _refuse(text, file, line_offset, run.start(),
+        _refuse(text, file, run.start(),
                 f"more than {MAX_NESTING} prefix operators in a row ('{run.group(0)[:3].strip()}'): not read")
     starts = [found.start() for found in _INVARIANT_START.finditer(code)]
     for begin, end in zip([0, *starts], [*starts, len(code)]):
         operators = _OPERATOR.findall(code, begin, end)
         if len(operators) > MAX_OPERATORS:
-            _refuse(text, file, line_offset, begin,
+            _refuse(text, file, begin,
                     f"an invariant of more than {MAX_OPERATORS} operators: not read")
 
 
-def _refuse(text: str, file: str, line_offset: int, position: int, message: str) -> None:
+def _refuse(text: str, file: str, position: int, message: str) -> None:
     line = text.count("\n", 0, position) + 1
     column = position - (text.rfind("\n", 0, position) + 1) + 1
-    raise OclSyntaxError(message, file, line - line_offset, column)
+    raise OclSyntaxError(message, file, line, column)
