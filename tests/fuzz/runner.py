@@ -8,12 +8,13 @@ package), which mutations, which command (``COMMANDS``: mostly ``check``; also `
 ``verify --timeout 2``, ``report``; a FABRIC package goes through ``import fabric`` and a check
 of what it wrote). Each worker runs its inputs one after the other in one process
 (``earl_m2t.cli.app.main``, output captured), under an address-space limit; the parent gives
-every input a bound of the worker's CPU time (``--bound``, 60 s) and of the time it is blocked
-(``WALL_FACTOR`` times as long: neither the worker nor a process it started running or waiting
-for a CPU, nor its CPU time growing; tests/fuzz/watch.py), and counts an input that exceeds
-either as a hang: the worker is killed and a new one goes on with the next input. A worker
-starved by a busy machine (a niced campaign beside other work), or a campaign paused and
-resumed (``kill -STOP``/``-CONT`` of its process group), is never counted.
+each command an input runs (a clean check goes on with every target's gen) a bound of the
+worker's CPU time (``--bound``, 60 s) and of the time it is blocked (``WALL_FACTOR`` times as
+long: neither the worker nor a process it started running or waiting for a CPU, nor its CPU
+time growing; tests/fuzz/watch.py), and counts a command that exceeds either as a hang: the
+worker is killed and a new one goes on with the next input. A worker starved by a busy machine
+(a niced campaign beside other work), or a campaign paused and resumed (``kill -STOP``/``-CONT``
+of its process group), is never counted.
 
 An input fails (``tests/fuzz/properties.py``) on an internal error, an exit code outside its
 command's table, SPIN refusing the Promela verify wrote, a hang, a peak resident memory over
@@ -46,6 +47,7 @@ from collections import Counter
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
@@ -209,9 +211,17 @@ def static_only_targets() -> frozenset[str]:
     return frozenset(name for name, spec in _targets().items() if spec.get("variable_structure") is False)
 
 
+# In a worker: how many commands it has started, which the parent reads to bound each command
+# (not the several commands of one input together) by ``--bound``.
+_commands_started: Any = None
+
+
 def invoke(argv: list[str]) -> Run:
     """One command line in this process, its output captured."""
     from earl_m2t.cli.app import main
+
+    if _commands_started is not None:
+        _commands_started.value += 1
 
     stdout, stderr = io.StringIO(), io.StringIO()
     code: int | None
@@ -279,7 +289,10 @@ def run_case(case: Case, folder: Path) -> Outcome:
     return Outcome(code, tuple(found), peak_kb() if measured else 0)
 
 
-def _worker(connection: Connection, seed_number: int, pool: list[Seed], packages: list[Seed], folder: str) -> None:
+def _worker(connection: Connection, seed_number: int, pool: list[Seed], packages: list[Seed], folder: str,
+            commands_started: Any) -> None:
+    global _commands_started
+    _commands_started = commands_started
     resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
     os.environ.pop("EARL_M2T_CACHE", None)
     place = Path(folder)
@@ -314,24 +327,30 @@ class Result:
 
 
 class _Slot:
-    """A worker, the input it runs, and how long that input has been blocked so far."""
+    """A worker, the input it runs, and how long the command it runs has been blocked so far."""
 
     def __init__(self, process: multiprocessing.process.BaseProcess, connection: Connection, index: int,
-                 cpu_since: float = 0.0) -> None:
+                 cpu_since: float = 0.0, commands_started: Any = None) -> None:
         self.process = process
         self.connection = connection
         self.index = index
-        self.cpu_since = cpu_since  # the worker's CPU time when the input began
+        self.cpu_since = cpu_since  # the worker's CPU time when its current command began
         self.blocked = 0.0  # seconds in which neither it ran nor waited for a CPU
+        self.commands_started = commands_started  # the worker's count (a shared value), or None
+        self._commands = commands_started.value if commands_started is not None else 0
         self._cpu = cpu_since
         self._looked = time.monotonic()
 
     def watch(self) -> float:
         """The worker's CPU time now; the time since the last look (at most LONGEST_LOOK_GAP)
         counts as blocked unless the worker used the CPU meanwhile or it (or a process it
-        started) is runnable now."""
+        started) is runnable now. A command started since the last look begins the count anew:
+        the bound is per command, and an input may run ten (a clean check, then every gen)."""
         cpu = cpu_seconds(self.process.pid or 0)
         now = time.monotonic()
+        if self.commands_started is not None and self.commands_started.value != self._commands:
+            self._commands = self.commands_started.value
+            self.cpu_since, self.blocked = self._cpu, 0.0
         if cpu == self._cpu and not runnable(self.process.pid or 0):
             self.blocked += min(now - self._looked, LONGEST_LOOK_GAP)
         self._cpu, self._looked = cpu, now
@@ -365,14 +384,16 @@ class Campaign:
                 while pending and len(workers) < self.jobs:
                     slot = next(slot_numbers)
                     parent, child = self._context.Pipe()
-                    arguments = (child, self.seed_number, self.pool, self.packages, str(scratch / f"w{slot}"))
+                    commands_started = self._context.RawValue("Q", 0)
+                    arguments = (child, self.seed_number, self.pool, self.packages, str(scratch / f"w{slot}"),
+                                 commands_started)
                     process: multiprocessing.process.BaseProcess = self._context.Process(
                         target=_worker, args=arguments, daemon=True)
                     process.start()
                     child.close()
                     index = pending.pop()
                     parent.send(index)
-                    workers[slot] = _Slot(process, parent, index)
+                    workers[slot] = _Slot(process, parent, index, 0.0, commands_started)
                 ready = multiprocessing.connection.wait([w.connection for w in workers.values()], timeout=1.0)
                 for slot, worker in list(workers.items()):
                     process, connection = worker.process, worker.connection
@@ -389,7 +410,8 @@ class Campaign:
                         if pending:
                             index = pending.pop()
                             connection.send(index)
-                            workers[slot] = _Slot(process, connection, index, cpu_seconds(process.pid or 0))
+                            workers[slot] = _Slot(process, connection, index, cpu_seconds(process.pid or 0),
+                                                  worker.commands_started)
                         else:
                             connection.send(None)
                             process.join()
@@ -399,8 +421,8 @@ class Campaign:
                         process.kill()
                         process.join()
                         results.append(self._result(worker.index, -1, HANG,
-                                                    f"no result within {self.bound:g} s of CPU time or "
-                                                    f"{self.bound * WALL_FACTOR:g} s blocked"))
+                                                    f"a command without a result within {self.bound:g} s of "
+                                                    f"CPU time or {self.bound * WALL_FACTOR:g} s blocked"))
                         del workers[slot]
                 while saved < len(results):
                     if regressions is not None and results[saved].failures:

@@ -7,6 +7,7 @@ import multiprocessing
 import subprocess
 import sys
 import time
+from typing import Any
 
 from tests.fuzz.runner import LONGEST_LOOK_GAP, _Slot
 from tests.fuzz.watch import runnable
@@ -86,3 +87,41 @@ def test_a_pause_of_the_campaign_itself_is_not_counted_as_blocked() -> None:
     finally:
         process.kill()
         process.join()
+
+
+def _commands(started: Any, count: int, seconds: float) -> None:
+    """``count`` commands one after the other, each spinning for ``seconds`` of CPU time."""
+    for _ in range(count):
+        started.value += 1
+        until = time.process_time() + seconds
+        while time.process_time() < until:
+            pass
+    time.sleep(30)
+
+
+def _cpu_counted(count: int, seconds: float) -> float:
+    """The largest CPU time the parent's bookkeeping counted against one command of a worker."""
+    context = multiprocessing.get_context("fork")
+    started = context.RawValue("Q", 0)
+    process = context.Process(target=_commands, args=(started, count, seconds), daemon=True)
+    process.start()
+    parent, _ = context.Pipe()
+    slot = _Slot(process, parent, 0, 0.0, started)
+    largest = 0.0
+    try:
+        deadline = time.monotonic() + count * seconds * 20 + 5
+        while started.value < count or slot.watch() - slot.cpu_since < seconds * 0.9:
+            time.sleep(0.05)
+            largest = max(largest, slot.watch() - slot.cpu_since)
+            assert time.monotonic() < deadline, "the worker did not run its commands"
+        return max(largest, slot.watch() - slot.cpu_since)
+    finally:
+        process.kill()
+        process.join()
+
+
+def test_the_bound_is_per_command_not_per_input() -> None:
+    """An input runs several commands (a clean check, then every target's gen): five commands of
+    0.4 s of CPU time each count at most about 0.4 s against the bound, one of 2 s counts 2 s."""
+    assert _cpu_counted(5, 0.4) < 1.0
+    assert _cpu_counted(1, 2.0) >= 1.8
