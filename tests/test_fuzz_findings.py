@@ -8,8 +8,12 @@ each one is.
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+import tempfile
+import time
+from dataclasses import dataclass
 from pathlib import Path
 from xml.dom import minidom
 
@@ -21,6 +25,7 @@ from tests.support.paths import ROOT, SHARED
 
 FINDINGS = SHARED / "fuzz-findings"
 SECONDS = 30  # the bound the fuzz campaign holds every run to
+MEMORY_KB = 1 << 20  # 1 GiB of peak resident memory, the bound of the issue the findings came with
 
 # (reproduction, command and its arguments after the model, exit codes its contract allows)
 REPLAYS = [
@@ -68,9 +73,35 @@ REPLAYS = [
 ]
 
 
-def earl(*args: str | Path, cwd: Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "earl_m2t", *map(str, args)], capture_output=True, text=True,
-                          timeout=SECONDS, cwd=cwd)
+@dataclass(frozen=True)
+class Ran:
+    returncode: int
+    stdout: str
+    stderr: str
+    peak_kb: int  # the command's peak resident memory (its own rusage, from wait4)
+
+
+def earl(*args: str | Path, cwd: Path) -> Ran:
+    """The command line within SECONDS, and its peak resident memory."""
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        process = subprocess.Popen([sys.executable, "-m", "earl_m2t", *map(str, args)], stdout=out, stderr=err,
+                                   cwd=cwd)
+        deadline = time.monotonic() + SECONDS
+        while True:
+            pid, status, usage = os.wait4(process.pid, os.WNOHANG)
+            if pid:
+                break
+            if time.monotonic() > deadline:
+                process.kill()
+                os.wait4(process.pid, 0)
+                process.returncode = -9
+                raise subprocess.TimeoutExpired(process.args, SECONDS)
+            time.sleep(0.02)
+        process.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        return Ran(process.returncode, out.read().decode(errors="replace"), err.read().decode(errors="replace"),
+                   usage.ru_maxrss)
 
 
 @pytest.mark.parametrize(("finding", "command", "allowed"), REPLAYS,
@@ -85,6 +116,7 @@ def test_the_reproduction_gets_an_answer_not_an_internal_error(finding: str, com
     output = result.stdout + result.stderr
     assert result.returncode in allowed, output[-2000:]
     assert "internal error" not in output and "Traceback" not in output, output[-2000:]
+    assert 0 < result.peak_kb < MEMORY_KB, f"peak resident memory {result.peak_kb} KiB"
     if verb == "convert":  # nothing written unless it reads back as the model it came from
         assert (tmp_path / "out.sysml").exists() == (result.returncode == 0), output
     if result.returncode == 2:  # refused: one line on stderr says why, naming the file
