@@ -18,7 +18,7 @@ import earl_m2t.ocl.ast as ast
 from earl_m2t.ocl.errors import OclSyntaxError
 from earl_m2t.ocl.evaluator import CompiledExpression, compile_expression
 from earl_m2t.ocl.invariant import Invariant
-from earl_m2t.ocl.limits import refuse_oversized
+from earl_m2t.ocl.limits import oversized
 from earl_m2t.resources import metamodel_path
 
 # Marks a single expression for the grammar's root rule; followed by a newline, so line
@@ -35,7 +35,7 @@ def _metamodel() -> TextXMetaModel:
 
 def parse_invariants(text: str, file: str = "<string>") -> list[Invariant]:
     """Parse a file of invariants; raises :class:`OclSyntaxError` on the first problem."""
-    refuse_oversized(text, file)
+    _refuse_oversized(text, file)
     try:
         return _invariants(text, file)
     except RecursionError:
@@ -79,7 +79,7 @@ def _invariants(text: str, file: str) -> list[Invariant]:
 def parse_expression(text: str) -> CompiledExpression:
     """Parse a single expression; raises :class:`OclSyntaxError` (file ``<expression>``)."""
     file = "<expression>"
-    refuse_oversized(text, file)
+    _refuse_oversized(text, file)
     try:
         document = _parse(_EXPRESSION_MARKER + text, file, line_offset=1)
         if isinstance(document, str) or document.expression is None:  # cannot happen: the marker
@@ -320,6 +320,12 @@ def _position(text: str, line: int, column: int) -> int:
             return len(text)
         offset = newline + 1
     return offset + column - 1
+
+
+def _refuse_oversized(text: str, file: str) -> None:
+    found = oversized(text)
+    if found is not None:
+        raise OclSyntaxError(found[1], file, *_line_column(text, found[0]))
 
 
 def _line_column(text: str, position: int) -> tuple[int, int]:
