@@ -3,7 +3,7 @@
 Discovery starts in the current directory and walks up to the repository root (a folder
 holding ``.git``) or the filesystem root; in each folder ``earl-m2t.toml`` wins over a
 ``pyproject.toml`` that has a ``[tool.earl-m2t]`` table (one without it is passed over).
-Paths and globs in the file are relative to its folder. See README.md for the keys.
+Paths and globs in the file are relative to its folder. See docs/check.md (*Configuration*) for the keys.
 """
 
 from __future__ import annotations

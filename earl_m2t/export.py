@@ -1,6 +1,6 @@
 """The lifted model as plain data: what ``earl-m2t show --format json`` prints.
 
-The keys are documented in README.md ("show --format json") and kept stable.
+The keys are documented in docs/show-and-stats.md (`earl-m2t show`) and kept stable.
 """
 
 from __future__ import annotations

@@ -379,8 +379,8 @@ def test_the_documented_configuration_and_rules_are_valid(tmp_path: Path) -> Non
     from earl_m2t.check.user_rules import parse_user_rules
     from earl_m2t.config import load_config
 
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    (example,) = [block for block in re.findall(r"```toml\n(.*?)```", readme, re.DOTALL) if "per-file-ignores" in block]
+    page = (ROOT / "docs" / "check.md").read_text(encoding="utf-8")
+    (example,) = [block for block in re.findall(r"```toml\n(.*?)```", page, re.DOTALL) if "per-file-ignores" in block]
     (tmp_path / "earl-m2t.toml").write_text(example, encoding="utf-8")
     config = load_config(tmp_path / "earl-m2t.toml")
     assert config.ignore == ("S006",) and config.permitted_links is not None

@@ -134,10 +134,11 @@ def test_a_construct_of_the_subset_in_a_form_it_does_not_read_is_named_as_such(t
     assert loaded.diagnostics[0].message.startswith("this 'part' is not in a form the EARL SysML v2 subset reads")
 
 
-def test_the_readme_example_is_read_as_written(tmp_path: Path) -> None:
-    """The README's small agent, placed in a system, lifts with its buffer, FSM and stage."""
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = readme[readme.index("## SysML v2 text"):]
+def test_the_documented_example_is_read_as_written(tmp_path: Path) -> None:
+    """The small agent of docs/sysml-v2.md (*At a glance*), placed in a system, lifts with its
+    buffer, FSM and stage."""
+    page = (ROOT / "docs" / "sysml-v2.md").read_text(encoding="utf-8")
+    section = page[page.index("## At a glance"):]
     start = section.index("```sysml\n") + len("```sysml\n")
     example = section[start:section.index("```\n", start)]
     path = tmp_path / "heater.sysml"

@@ -69,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def stats_to_dict(stats: Stats) -> dict[str, Any]:
-    """The JSON document; its keys are documented in README.md and kept stable."""
+    """The JSON document; its keys are documented in docs/show-and-stats.md and kept stable."""
     earl = stats.earl
     return {
         "format": FORMAT_VERSION,
