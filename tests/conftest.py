@@ -21,6 +21,18 @@ def pytest_configure(config: pytest.Config) -> None:
     compiler_cache.enable(os.environ)
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under pytest-xdist (``--dist loadgroup``, what ``./dev test`` runs the tests that are
+    not ``loaded`` with), each module's tests stay together on one worker, so that its module
+    fixtures run once; a module with an ``xdist_group`` of its own shares a worker with the
+    other modules of that group (the ROS 2 modules: two launches at once could meet on one
+    ROS domain). Runs before xdist reads the groups."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is None:
+            item.add_marker(pytest.mark.xdist_group(item.path.relative_to(ROOT).as_posix()))
+
+
 @pytest.fixture(scope="session")
 def sample_path() -> Path:
     return SAMPLE

@@ -4,7 +4,6 @@ hostile names give valid identifiers and paths; the C++ runtime passes its own u
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
@@ -23,6 +22,7 @@ from earl_m2t.model.conditions import Condition, ConditionRole
 from earl_m2t.model.elements import EarlModel
 from earl_m2t.model.location import Location
 from earl_m2t.model.naming import _table
+from tests.support.cpp_sample import cmake_project
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -72,13 +72,10 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     if shutil.which("g++") is None or shutil.which("cmake") is None:
         pytest.skip("g++ and cmake are needed")
     base = tmp_path_factory.mktemp("gen_cpp")
-    out, build = base / "out", base / "build"
+    out = base / "out"
     result = earl("gen", str(SAMPLE), "--target", "cpp", "-o", str(out))
     assert result.returncode == 0, result.stderr
-    run("cmake", "-S", out, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-        "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
-    run("cmake", "--build", build, "-j", str(os.cpu_count() or 2), timeout=300)
-    return out, build
+    return out, cmake_project(out)
 
 
 # ---------------------------------------------------------------- build and run

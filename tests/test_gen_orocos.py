@@ -22,8 +22,8 @@ import pytest
 
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, generate, render
-from tests.support import orocos
-from tests.support.campaign import loaded_runs
+from tests.support import known_bad, orocos
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -300,27 +300,23 @@ def rtt() -> orocos.Installation:
 
 
 @pytest.fixture(scope="module")
-def installed(out: Path, rtt: orocos.Installation) -> Path:
-    """The sample's Orocos project built against RTT and installed into out/install; the
-    compiler's output is kept in out/build.log for the warning check."""
-    build, log = out / "build", []
-    env = rtt.environment([])
-    for command in (["cmake", "-S", str(out), "-B", str(build), f"-DCMAKE_PREFIX_PATH={rtt.prefix}"],
-                    ["cmake", "--build", str(build), "-j", str(os.cpu_count() or 2)],
-                    ["cmake", "--install", str(build), "--prefix", str(out / "install")]):
-        result = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env)
-        log.append(result.stdout + result.stderr)
-        assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
-    (out / "build.log").write_text("".join(log))
-    return out / "install"
+def project(out: Path, rtt: orocos.Installation) -> Path:
+    """The sample's Orocos project built against RTT and installed (tests/support/orocos.py):
+    the folder of build/, install/ and build.log, the compiler's output for the warning check."""
+    return orocos.built_project(out, rtt)
 
 
-def test_the_generated_project_compiles_and_links_against_rtt(out: Path, installed: Path) -> None:
-    assert "warning:" not in (out / "build.log").read_text()
+@pytest.fixture(scope="module")
+def installed(project: Path) -> Path:
+    return project / "install"
+
+
+def test_the_generated_project_compiles_and_links_against_rtt(out: Path, project: Path, installed: Path) -> None:
+    assert "warning:" not in (project / "build.log").read_text()
     # every component library was compiled with -Wall -Wextra -Werror (the flags CMake used)
-    flags = sorted((out / "build").glob("CMakeFiles/*.dir/flags.make"))
+    flags = sorted((project / "build").glob("CMakeFiles/*.dir/flags.make"))
     assert len(flags) == 7 and all("-Wall -Wextra -Werror" in f.read_text() for f in flags)
-    libraries = sorted(p.name for p in (out / "build").rglob("lib*-gnulinux.so"))
+    libraries = sorted(p.name for p in (project / "build").rglob("lib*-gnulinux.so"))
     assert libraries == sorted(f"lib{p.parent.parent.name}_{p.parent.name}-gnulinux.so"
                                for p in out.glob("orocos/*/*/components.cpp"))
     assert len(libraries) == 7
@@ -402,7 +398,8 @@ def deployer_states(lines: list[str]) -> list[str]:
     return [m.group(2) or m.group(4) for m in map(DEPLOYER_STATE.match, (line.strip() for line in lines)) if m]
 
 
-LOADED_RUNS = loaded_runs()
+CAMPAIGN = "orocos pick_and_place"  # tests/support/campaigns.toml
+LOADED_RUNS = loaded_runs(CAMPAIGN)
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 # The periodic masters at 2 ms: 17 masters (and 24 pf components) at 1 ms do not keep up on
 # two cores with a busy process per core, so each run would take the timeout; at 2 ms a run
@@ -410,6 +407,7 @@ SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 LOADED_PERIOD = 0.002
 
 
+@pytest.mark.loaded
 def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path, installed: Path,
                                                                       rtt: orocos.Installation,
                                                                       tmp_path: Path) -> None:
@@ -453,3 +451,32 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
                 failures.append(f"run {attempt + 1}: {len(errors)} error line(s), first: {errors[0]}")
     assert not failures, (f"{len(failures)} of {LOADED_RUNS} deployments missed the sequence:\n"
                           + "\n".join(failures[:3]))
+
+
+@pytest.mark.loaded
+def test_the_deployer_checks_catch_a_one_shot_command_into_a_latest_value_input(rtt: orocos.Installation,
+                                                                               tmp_path: Path) -> None:
+    """The known-bad variant (tests/support/known_bad.py): manip/a.cs's commands a data
+    connection (the latest value) and manip/a.cs's master periodic. Deployed at 2 ms under load,
+    a later command overwrites the setpoint before manip/a.cs reads it in one of the deployments
+    the campaign keeps."""
+    out = tmp_path / "out"
+    shutil.copytree(USER, out / "user")
+    result = earl("gen", str(known_bad.one_shot_into_latest_value(tmp_path / "model")), "--target", "orocos",
+                  "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    installed = orocos.built_project(out, rtt) / "install"
+    deploy = at_period(out / "deploy", tmp_path / "deploy", LOADED_PERIOD)
+    env = rtt.environment([installed / "lib" / "orocos"])
+
+    def missed() -> bool:
+        lines, _ = run_until(["deployer", "-l", "info", "-s", "system.ops"],
+                             known_bad.SetpointWatch(deployer_states), 60, env, cwd=deploy, graceful=False,
+                             stderr=deploy / "deployer.stderr")
+        return deployer_states(lines)[:4] != SEQUENCE
+
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(1, catch_runs(CAMPAIGN) + 1) if missed()), None)
+    print(f"\norocos latest-value variant: caught in deployment {caught}")
+    assert caught is not None, (f"all {catch_runs(CAMPAIGN)} deployments of the latest-value variant reached "
+                                "the sequence")

@@ -4,22 +4,31 @@ system runs the model: manip/a.cs goes idle -> jointMove -> idle -> emergencySto
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
 import xmlrpc.client
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from earl_m2t.api import load
 from earl_m2t.gen import GenError, render
-from tests.support.campaign import loaded_runs
+from tests.support import known_bad
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.load import cpu_hogs, run_until
-from tests.support.ros_launch import PYTHON, clear_start_barrier, free_port, needs_catkin, needs_roslaunch, run, stop
+from tests.support.ros_launch import (
+    catkin_make,
+    clear_start_barrier,
+    environment,
+    needs_catkin,
+    needs_roslaunch,
+    roscore,
+    run,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -27,7 +36,8 @@ SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
 STATE = re.compile(r"^step \d+ manip/a\.cs: (?:start in (\w+)|(\w+) -> (\w+) \([^)]*\))$")
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
-LOADED_RUNS = loaded_runs()
+CAMPAIGN = "ros pick_and_place"  # tests/support/campaigns.toml
+LOADED_RUNS = loaded_runs(CAMPAIGN)
 LAUNCH_TIMEOUT = 60.0  # s per launch: start-up of the 17 nodes under load, then about 1 s of script
 
 @pytest.fixture(scope="module")
@@ -44,8 +54,7 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
 @pytest.fixture(scope="module")
 def built(workspace: tuple[Path, str]) -> Path:
     ws, _ = workspace
-    run("catkin_make", "-C", ws, f"-DPYTHON_EXECUTABLE={PYTHON}", "-j", str(os.cpu_count() or 2), timeout=600)
-    return ws
+    return catkin_make(ws)
 
 
 def launch_remaps(src: Path) -> dict[str, str]:
@@ -176,35 +185,51 @@ def manip_states(lines: list[str]) -> list[str]:
     return [m.group(1) or m.group(3) for m in map(STATE.match, (line.strip() for line in lines)) if m]
 
 
+def missed_sequence(env: dict[str, str], master: xmlrpc.client.ServerProxy,
+                    seen: Callable[[list[str]], bool] | None = None) -> str | None:
+    """One launch at 1 ms, stopped as soon as manip/a.cs reached emergencyStop (or ``seen``
+    held): what went wrong, or None when it went through SEQUENCE."""
+    clear_start_barrier(master)
+    lines, reached = run_until(["roslaunch", "--wait", "pick_and_place_bringup", "system.launch", "period:=0.001"],
+                               seen or (lambda out: "emergencyStop" in manip_states(out)), LAUNCH_TIMEOUT, env)
+    if reached and manip_states(lines)[:4] == SEQUENCE:
+        return None
+    return f"{manip_states(lines)}\n" + "\n".join(lines[-40:])
+
+
+@pytest.mark.loaded
 @needs_catkin
 @needs_roslaunch
 def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(built: Path, tmp_path: Path) -> None:
-    """50 launches at 1 ms periods with one busy process per CPU: task/a.cs sends its setpoint
+    """Launches at 1 ms periods with one busy process per CPU: task/a.cs sends its setpoint
     in one period only, and manip/a.cs, activated by each command it queues, never loses it.
     Each run stops as soon as manip/a.cs reached emergencyStop (the script needs about 0.85 s
     at 1 ms); one roscore serves all runs, its start barrier cleared between them."""
-    env = dict(os.environ)
-    port = free_port()
-    env.update(ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1", ROS_HOME=str(tmp_path / "home"),
-               ROS_PACKAGE_PATH=f"{built / 'src'}:/usr/share", ROS_LOG_DIR=str(tmp_path / "log"),
-               PICK_AND_PLACE_QUIET="1")
-    env["CMAKE_PREFIX_PATH"] = f"{built / 'devel'}:/usr"
-    env["PYTHONPATH"] = str(built / "devel" / "lib" / "python3" / "dist-packages")
-    env.pop("VIRTUAL_ENV", None)
-    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep) if ".venv" not in p)
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, start_new_session=True)
-    master = xmlrpc.client.ServerProxy(f"http://127.0.0.1:{port}")
     failures = []
-    try:
-        with cpu_hogs():
-            for attempt in range(LOADED_RUNS):
-                clear_start_barrier(master)
-                lines, reached = run_until(
-                    ["roslaunch", "--wait", "pick_and_place_bringup", "system.launch", "period:=0.001"],
-                    lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT, env)
-                if not reached or manip_states(lines)[:4] != SEQUENCE:
-                    failures.append(f"run {attempt + 1}: {manip_states(lines)}\n" + "\n".join(lines[-40:]))
-    finally:
-        stop(core)
+    with roscore(tmp_path) as (port, master), cpu_hogs():
+        env = {**environment(built, tmp_path, port), "PICK_AND_PLACE_QUIET": "1"}
+        for attempt in range(1, LOADED_RUNS + 1):
+            missed = missed_sequence(env, master)
+            if missed:
+                failures.append(f"run {attempt}: {missed}")
     assert not failures, f"{len(failures)} of {LOADED_RUNS} launches missed the sequence:\n" + "\n".join(failures[:3])
+
+
+@pytest.mark.loaded
+@needs_catkin
+@needs_roslaunch
+def test_the_launch_checks_catch_a_one_shot_command_into_a_latest_value_input(tmp_path: Path) -> None:
+    """The known-bad variant (tests/support/known_bad.py): manip/a.cs's commands a latest-value
+    input and manip/a.cs on its own clock. Launched under load, a later command overwrites the
+    setpoint before manip/a.cs reads it in one of the launches the campaign keeps."""
+    ws = tmp_path / "ws"
+    shutil.copytree(USER, ws / "src" / "user")
+    run(sys.executable, "-m", "earl_m2t", "gen", known_bad.one_shot_into_latest_value(tmp_path / "model"),
+        "--target", "ros", "-o", ws / "src")
+    built = catkin_make(ws)
+    with roscore(tmp_path) as (port, master), cpu_hogs():
+        env = {**environment(built, tmp_path, port), "PICK_AND_PLACE_QUIET": "1"}
+        caught = next((attempt for attempt in range(1, catch_runs(CAMPAIGN) + 1)
+                       if missed_sequence(env, master, known_bad.SetpointWatch(manip_states))), None)
+    print(f"\nros latest-value variant: caught in launch {caught}")
+    assert caught is not None, f"all {catch_runs(CAMPAIGN)} launches of the latest-value variant reached the sequence"

@@ -15,6 +15,7 @@ import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -22,11 +23,13 @@ import pytest
 from earl_m2t.api import load
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.targets.ros2 import yaml_scalar
-from tests.support import ros2
-from tests.support.campaign import loaded_runs, long_runs
+from tests.support import known_bad, ros2
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
+# the ROS 2 modules share one worker of a parallel run: two launches at once could meet on a ROS domain
+pytestmark = pytest.mark.xdist_group("ros2")
 
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.uml"
 USER = SAMPLE.parent / "user"
@@ -37,7 +40,8 @@ BRINGUP = "pick_and_place_bringup"
 PACKAGES = ["pick_and_place_bringup", "pick_and_place_grip_a", "pick_and_place_manip_a", "pick_and_place_msgs",
             "pick_and_place_task_a"]
 LAUNCH_TIMEOUT = 90.0  # s: start-up of 3 containers (or 17 processes) and the barrier, then about 1 s of script
-LOADED_RUNS = loaded_runs()
+# the loaded campaigns (tests/support/campaigns.toml), composed or a process per node
+CAMPAIGNS = {"true": "ros2 pick_and_place", "false": "ros2 pick_and_place processes"}
 OVERFLOW = re.compile(r"overflowed, (\d+) value\(s\) lost")
 DIED = re.compile(r"\[ERROR\] \[([\w-]+)\]: process has died")
 
@@ -224,8 +228,7 @@ def test_rosidl_parses_every_generated_message(workspace: tuple[Path, str], jazz
 @pytest.fixture(scope="module")
 def built(workspace: tuple[Path, str], jazzy: ros2.Installation) -> Path:
     ws, _ = workspace
-    jazzy.colcon_build(ws)
-    return ws
+    return jazzy.colcon_build(ws)
 
 
 def test_colcon_builds_a_component_library_per_agent_and_an_executable_per_definition(built: Path) -> None:
@@ -250,39 +253,80 @@ def manip_states(lines: list[str]) -> list[str]:
     return [m.group(1) or m.group(3) for m in map(STATE.match, (line.strip() for line in lines)) if m]
 
 
-# Each under a CPU hog per core at 1 ms periods (tests/support/campaign.py): composed (3
-# containers), the campaign's runs; a process per node (17 processes, each launch tens of
-# seconds on 2 loaded cores), all of them in a full campaign, a fifth in the suite's.
-@pytest.mark.parametrize(("composed", "runs"), [("true", LOADED_RUNS), ("false", long_runs(5))])
+def launch_once(built: Path, env: dict[str, str], composed: str,
+                seen: Callable[[list[str]], bool] | None = None) -> tuple[str | None, int]:
+    """One launch at 1 ms on a ROS domain of its own, stopped as soon as manip/a.cs reached
+    emergencyStop (or ``seen`` held): (what went wrong, or None when it went through SEQUENCE
+    with every node activated; the streamed commands its queue reported lost)."""
+    env["ROS_DOMAIN_ID"] = str(random.randint(1, 100))
+    lines, reached = run_until(["ros2", "launch", "pick_and_place_bringup", "system.launch.py",
+                                "period:=0.001", f"composed:={composed}"],
+                               seen or (lambda out: "emergencyStop" in manip_states(out)), LAUNCH_TIMEOUT, env)
+    lost = sum(int(m.group(1)) for m in map(OVERFLOW.search, lines) if m)
+    activated = any(line.endswith("[earl_lifecycle_manager]: activated: 17 nodes") for line in lines)
+    if reached and manip_states(lines)[:4] == SEQUENCE and activated:
+        return None, lost
+    # what the nodes said of manip/a.cs, and everything a process that died wrote
+    died = {m.group(1) for m in map(DIED.search, lines) if m}
+    notable = [line for line in lines if re.search(r"a\.cs: |WARN|ERROR|died|manager", line)
+               or any(line.startswith(f"[{process}] ") for process in died)]
+    return f"{manip_states(lines)}\n" + "\n".join(notable[:80] + ["..."] + lines[-30:]), lost
+
+
+def launch_environment(built: Path, jazzy: ros2.Installation, folder: Path) -> dict[str, str]:
+    env = jazzy.environment(built)
+    env.update(ROS_LOG_DIR=str(folder / "log"), ROS_HOME=str(folder / "home"), PICK_AND_PLACE_QUIET="1")
+    return env
+
+
+# Each under a CPU hog per core at 1 ms periods, composed (3 containers) or a process per node
+# (17 processes, each launch tens of seconds on 2 loaded cores): two campaigns.
+@pytest.mark.loaded
+@pytest.mark.parametrize("composed", ["true", "false"])
 def test_launches_under_load_take_manip_cs_through_the_states_of_the_model(
-        built: Path, jazzy: ros2.Installation, tmp_path: Path, composed: str, runs: int) -> None:
+        built: Path, jazzy: ros2.Installation, tmp_path: Path, composed: str) -> None:
     """Each launch on a ROS domain of its own, stopped as soon as manip/a.cs reached
     emergencyStop. task/a.cs sends its jointMove setpoint in one command only, over a queued
     link (reliable, keep all): idle -> jointMove in every run is that one-shot command arriving.
     The streamed commands its queue lost when full (reported, never silent) are counted."""
-    env = jazzy.environment(built)
-    env.update(ROS_LOG_DIR=str(tmp_path / "log"), ROS_HOME=str(tmp_path / "home"), PICK_AND_PLACE_QUIET="1")
+    runs = loaded_runs(CAMPAIGNS[composed])
+    env = launch_environment(built, jazzy, tmp_path)
     failures: list[str] = []
     lost = 0
     with cpu_hogs():
         for attempt in range(1, runs + 1):
-            env["ROS_DOMAIN_ID"] = str(random.randint(1, 100))
-            lines, reached = run_until(["ros2", "launch", "pick_and_place_bringup", "system.launch.py",
-                                        "period:=0.001", f"composed:={composed}"],
-                                       lambda out: "emergencyStop" in manip_states(out), LAUNCH_TIMEOUT, env)
-            lost += sum(int(m.group(1)) for m in map(OVERFLOW.search, lines) if m)
-            activated = any(line.endswith("[earl_lifecycle_manager]: activated: 17 nodes") for line in lines)
-            if not reached or manip_states(lines)[:4] != SEQUENCE or not activated:
-                # what the nodes said of manip/a.cs, and everything a process that died wrote
-                died = {m.group(1) for m in map(DIED.search, lines) if m}
-                notable = [line for line in lines if re.search(r"a\.cs: |WARN|ERROR|died|manager", line)
-                           or any(line.startswith(f"[{process}] ") for process in died)]
-                failures.append(f"run {attempt}: {manip_states(lines)}\n" + "\n".join(notable[:80] + ["..."]
-                                                                                    + lines[-30:]))
+            failed, overflowed = launch_once(built, env, composed)
+            lost += overflowed
+            if failed:
+                failures.append(f"run {attempt}: {failed}")
     print(f"\nros2 launches, composed={composed}, period 1 ms, under load: {runs - len(failures)} of "
           f"{runs} completed the sequence (the one-shot setpoint arrived); {lost} streamed command(s) "
           f"lost in reported overflows")
     assert not failures, f"{len(failures)} of {runs} launches failed:\n" + "\n".join(failures[:2])
+
+
+@pytest.mark.loaded
+@pytest.mark.parametrize("composed", ["true", "false"])
+def test_the_launch_checks_catch_a_one_shot_command_into_a_latest_value_input(
+        jazzy: ros2.Installation, tmp_path: Path, composed: str) -> None:
+    """The known-bad variant (tests/support/known_bad.py): manip/a.cs's commands a latest-value
+    link (reliable, transient local, depth 1) and manip/a.cs on its own clock. Launched under
+    load, a later command overwrites the setpoint before manip/a.cs reads it in one of the
+    launches the campaign keeps."""
+    ws = tmp_path / "ws"
+    shutil.copytree(USER, ws / "src" / "user")
+    model = known_bad.one_shot_into_latest_value(tmp_path / "model")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
+                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    built = jazzy.colcon_build(ws)
+    env = launch_environment(built, jazzy, tmp_path)
+    runs = catch_runs(CAMPAIGNS[composed])
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(1, runs + 1)
+                       if launch_once(built, env, composed, known_bad.SetpointWatch(manip_states))[0]), None)
+    print(f"\nros2 latest-value variant, composed={composed}: caught in launch {caught}")
+    assert caught is not None, f"all {runs} launches of the latest-value variant reached the sequence"
 
 
 def test_a_parameter_outside_its_declared_range_is_refused(built: Path, jazzy: ros2.Installation) -> None:

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks import SWITCH, Harmoniser, latencies_ms, latency_summary, switches, undelivered
@@ -35,7 +35,8 @@ USER = SAMPLE.parent / "user"
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
 CYCLES = 230
-LOADED_RUNS = loaded_runs()
+CAMPAIGN = "cpp harmoniser"  # tests/support/campaigns.toml
+LOADED_RUNS = loaded_runs(CAMPAIGN)
 THREADED_SECONDS = 0.5  # the fall is at the lidar's 40th scan, the person up at its 160th: 1 ms each
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
@@ -45,7 +46,7 @@ pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cma
 def build(model: Path, folder: Path, *flags: str) -> Path:
     """The sample's user code copied into ``folder/out``, gen run over it for ``model``, built."""
     out = generate_with_user_code(model, USER, folder / "out")
-    return cmake_build(out, folder / "build", "Harmoniser_system", *flags)
+    return cmake_build(out, "Harmoniser_system", *flags)
 
 
 @pytest.fixture(scope="module")
@@ -101,6 +102,7 @@ def threaded_run(binary: Path) -> list[str]:
     return lines
 
 
+@pytest.mark.loaded
 def test_threaded_runs_under_load_resume_the_guide_agent(binary: Path) -> None:
     failures, latencies = [], []
     with cpu_hogs():
@@ -114,11 +116,12 @@ def test_threaded_runs_under_load_resume_the_guide_agent(binary: Path) -> None:
     print(f"harmoniser C++ threaded: {LOADED_RUNS} runs, {latency_summary(latencies)}")
 
 
+@pytest.mark.loaded
 def test_the_checks_catch_a_switch_that_skips_the_drain(tmp_path: Path) -> None:
     """Built with the drain skipped (test-only), guide/a stops at once, wherever it is: it is
     not resumed in waiting, which the checks see in at least one loaded run."""
     undrained = build(SAMPLE, tmp_path, "-DEARL_SWITCH_DRAIN=0")
     with cpu_hogs():
-        caught = next((attempt for attempt in range(CATCH_ATTEMPTS)
+        caught = next((attempt for attempt in range(catch_runs(CAMPAIGN))
                        if Harmoniser.problems(threaded_run(undrained))), None)
-    assert caught is not None, f"all {CATCH_ATTEMPTS} runs of the drain-skipping build passed the checks"
+    assert caught is not None, f"all {catch_runs(CAMPAIGN)} runs of the drain-skipping build passed the checks"

@@ -35,7 +35,7 @@ from pathlib import Path
 import pytest
 
 from tests.support import orocos
-from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks_orocos import (
@@ -57,7 +57,9 @@ HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
 # GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
-RUNS = loaded_runs()
+TWO_ARM_CAMPAIGN, HARMONISER_CAMPAIGN = "orocos two_arm", "orocos harmoniser"  # tests/support/campaigns.toml
+TWO_ARM_RUNS = loaded_runs(TWO_ARM_CAMPAIGN)
+HARMONISER_RUNS = loaded_runs(HARMONISER_CAMPAIGN)
 PERIOD = 0.002  # s: every periodic master (the scripts' 0.01 s, as a user sets it)
 RUN_TIMEOUT = 30.0  # s per deployment; one takes 2 to 4 s under load
 ERROR = re.compile(r"\[\s*ERROR\s*\]")
@@ -87,18 +89,11 @@ def generate(model: Path, user: Path, folder: Path) -> Path:
     return folder
 
 
-def install(out: Path, rtt: orocos.Installation, build: str, *flags: str) -> Path:
-    """The project built (warnings are errors) and installed; the prefix holding lib/orocos."""
-    prefix = out / f"{build}_install"
-    env = rtt.environment([])
-    for command in (["cmake", "-S", str(out), "-B", str(out / build), f"-DCMAKE_PREFIX_PATH={rtt.prefix}",
-                     "-DCMAKE_CXX_FLAGS=" + " ".join(flags)],
-                    ["cmake", "--build", str(out / build), "-j", "2"],
-                    ["cmake", "--install", str(out / build), "--prefix", str(prefix)]):
-        result = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env)
-        assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
-        assert "warning:" not in result.stdout + result.stderr
-    return prefix
+def install(out: Path, rtt: orocos.Installation, *flags: str) -> Path:
+    """The project built (warnings are errors, none printed) and installed; the prefix holding lib/orocos."""
+    project = orocos.built_project(out, rtt, *flags)
+    assert "warning:" not in (project / "build.log").read_text()
+    return project / "install"
 
 
 def deployment(out: Path, folder: Path) -> Path:
@@ -153,21 +148,22 @@ def two_arm_cpp_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple
     """The switches of the C++ target's deterministic run."""
     folder = tmp_path_factory.mktemp("two_arm_cpp")
     binary = cmake_build(generate_with_user_code(TWO_ARM, TWO_ARM.parent / "user", folder / "out"),
-                         folder / "build", "TwoArm_system")
+                         "TwoArm_system")
     found = switches(run(binary, "--cycles", "6000").splitlines())
     assert len(found) == 20
     return found
 
 
+@pytest.mark.loaded
 def test_two_arm_deployments_under_load_hand_every_command_over(
-        two_arm: Path, rtt: orocos.Installation, two_arm_cpp_switches: list[tuple[str, str]]) -> None:
-    deployer = Deployer(deployment(two_arm, two_arm / "deploy_2ms"), install(two_arm, rtt, "build"), rtt)
+        two_arm: Path, rtt: orocos.Installation, two_arm_cpp_switches: list[tuple[str, str]], tmp_path: Path) -> None:
+    deployer = Deployer(deployment(two_arm, tmp_path / "deploy_2ms"), install(two_arm, rtt), rtt)
     system_connects = CONNECT.findall((two_arm / "deploy" / "system.ops").read_text())
     # the model's 4 links (all variable), and per master but the coordinator task/a.cs its 2 control ports
     assert len(system_connects) == 4 + 2 * (len(deployer.masters) - 1) and len(deployer.masters) == 3
     failures, latencies = [], []
     with cpu_hogs():
-        for attempt in range(1, RUNS + 1):
+        for attempt in range(1, TWO_ARM_RUNS + 1):
             lines, found = deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))
             found += two_arm_problems(lines)
             if switches(lines) != two_arm_cpp_switches:
@@ -176,16 +172,19 @@ def test_two_arm_deployments_under_load_hand_every_command_over(
             if found:
                 failures.append(f"run {attempt}: {found}")
     report("two_arm", latencies)
-    assert not failures, f"{len(failures)} of {RUNS} deployments failed:\n" + "\n".join(failures[:5])
+    assert not failures, f"{len(failures)} of {TWO_ARM_RUNS} deployments failed:\n" + "\n".join(failures[:5])
 
 
-def test_the_checks_catch_a_switch_that_skips_the_drain(two_arm: Path, rtt: orocos.Installation) -> None:
-    prefix = install(two_arm, rtt, "build_undrained", "-DEARL_SWITCH_DRAIN=0")
-    deployer = Deployer(deployment(two_arm, two_arm / "deploy_undrained"), prefix, rtt)
+@pytest.mark.loaded
+def test_the_checks_catch_a_switch_that_skips_the_drain(two_arm: Path, rtt: orocos.Installation,
+                                                        tmp_path: Path) -> None:
+    prefix = install(two_arm, rtt, "-DEARL_SWITCH_DRAIN=0")
+    deployer = Deployer(deployment(two_arm, tmp_path / "deploy_undrained"), prefix, rtt)
     with cpu_hogs():
-        caught = next((attempt for attempt in range(1, CATCH_ATTEMPTS + 1)
+        caught = next((attempt for attempt in range(1, catch_runs(TWO_ARM_CAMPAIGN) + 1)
                        if two_arm_problems(deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))[0])), None)
-    assert caught is not None, f"all {CATCH_ATTEMPTS} deployments of the drain-skipping build passed the checks"
+    assert caught is not None, (f"all {catch_runs(TWO_ARM_CAMPAIGN)} deployments of the drain-skipping build "
+                                "passed the checks")
 
 
 # ---------------------------------------------------------------- harmoniser
@@ -195,19 +194,20 @@ def test_the_checks_catch_a_switch_that_skips_the_drain(two_arm: Path, rtt: oroc
 def harmoniser_cpp_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str]]:
     folder = tmp_path_factory.mktemp("harmoniser_cpp")
     binary = cmake_build(generate_with_user_code(HARMONISER, HARMONISER.parent / "user", folder / "out"),
-                         folder / "build", "Harmoniser_system")
+                         "Harmoniser_system")
     return switches(run(binary, "--cycles", "230").splitlines())
 
 
+@pytest.mark.loaded
 def test_harmoniser_deployments_under_load_resume_the_guide_agent(
         tmp_path_factory: pytest.TempPathFactory, rtt: orocos.Installation,
-        harmoniser_cpp_switches: list[tuple[str, str]]) -> None:
+        harmoniser_cpp_switches: list[tuple[str, str]], tmp_path: Path) -> None:
     assert harmoniser_cpp_switches == HARMONISER_SWITCHES
     out = generate(HARMONISER, HARMONISER.parent / "user", tmp_path_factory.mktemp("harmoniser_orocos"))
-    deployer = Deployer(deployment(out, out / "deploy_2ms"), install(out, rtt, "build"), rtt)
+    deployer = Deployer(deployment(out, tmp_path / "deploy_2ms"), install(out, rtt), rtt)
     failures, latencies = [], []
     with cpu_hogs():
-        for attempt in range(1, RUNS + 1):
+        for attempt in range(1, HARMONISER_RUNS + 1):
             lines, found = deployer.run(harmoniser_finished)
             if switches(lines) != harmoniser_cpp_switches:
                 found.append(f"switches {switches(lines)}")
@@ -221,7 +221,7 @@ def test_harmoniser_deployments_under_load_resume_the_guide_agent(
             if found:
                 failures.append(f"run {attempt}: {found}")
     report("harmoniser", latencies)
-    assert not failures, f"{len(failures)} of {RUNS} deployments failed:\n" + "\n".join(failures[:5])
+    assert not failures, f"{len(failures)} of {HARMONISER_RUNS} deployments failed:\n" + "\n".join(failures[:5])
 
 
 def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path, rtt: orocos.Installation) -> None:
@@ -230,7 +230,7 @@ def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path, rtt: orocos.In
     restarted = tmp_path / "harmoniser.sysml"
     restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
     out = generate(restarted, HARMONISER.parent / "user", tmp_path / "out")
-    deployer = Deployer(deployment(out, out / "deploy_2ms"), install(out, rtt, "build"), rtt)
+    deployer = Deployer(deployment(out, tmp_path / "deploy_2ms"), install(out, rtt), rtt)
     lines, found = deployer.run(harmoniser_finished)
     assert not found and switches(lines) == HARMONISER_SWITCHES, found
     assert next(m for m in map(LEAD.match, lines[resume_index(lines):]) if m).group(1) == "1"

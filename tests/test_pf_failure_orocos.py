@@ -37,13 +37,8 @@ def deployment(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str
     copy_faulty_user(out / "user")
     result = earl("gen", str(SAMPLE), "--target", "orocos", "-o", str(out))
     assert result.returncode == 0, result.stderr
-    env = rtt.environment([])
-    for command in (["cmake", "-S", str(out), "-B", str(out / "build"), f"-DCMAKE_PREFIX_PATH={rtt.prefix}"],
-                    ["cmake", "--build", str(out / "build"), "-j", "2"],
-                    ["cmake", "--install", str(out / "build"), "--prefix", str(out / "install")]):
-        done = subprocess.run(command, capture_output=True, text=True, timeout=1800, env=env)
-        assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-4000:]
-    return out / "deploy", rtt.environment([out / "install" / "lib" / "orocos"])
+    installed = orocos.built_project(out, rtt) / "install"
+    return out / "deploy", rtt.environment([installed / "lib" / "orocos"])
 
 
 def manip_step(lines: list[str]) -> int:

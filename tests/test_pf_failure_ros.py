@@ -43,7 +43,7 @@ def ros(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[dict[str, st
     ws = base / "ws"
     user = copy_faulty_user(base / "user")
     generate(SAMPLE, user, ws)
-    catkin_make(ws)
+    ws = catkin_make(ws)
     with roscore(base) as (port, master):
         yield environment(ws, base, port), master
 

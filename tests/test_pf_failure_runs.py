@@ -18,6 +18,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.cpp_sample import cmake_build
 from tests.support.faulty_user import FAILED, NAN_FROM, THROWN, copy_faulty_user
 from tests.test_cpp_allocations import compile_
 
@@ -40,16 +41,11 @@ def run(*command: str | Path, env: dict[str, str] | None = None,
 @pytest.fixture(scope="module")
 def system(tmp_path_factory: pytest.TempPathFactory) -> Path:
     base = tmp_path_factory.mktemp("pf_failure")
-    out, build = base / "out", base / "build"
+    out = base / "out"
     copy_faulty_user(out / "user")
     gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
     assert gen.returncode == 0, gen.stderr
-    for command in (["cmake", "-S", out, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-                     "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror"],
-                    ["cmake", "--build", build, "-j", "2", "--target", "PickAndPlace_system"]):
-        result = run(*command)
-        assert result.returncode == 0, result.stdout + result.stderr
-    return build / "PickAndPlace_system"
+    return cmake_build(out, "PickAndPlace_system")
 
 
 def trace(system: Path, fault: str, *arguments: str) -> list[str]:

@@ -18,17 +18,19 @@ import secrets
 import shutil
 import subprocess
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
-from tests.support import ros2
-from tests.support.campaign import long_runs
+from tests.support import known_bad, ros2
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.load import cpu_hogs, line_buffered, run_until, stop
 
 ROOT = Path(__file__).resolve().parents[1]
+# the ROS 2 modules share one worker of a parallel run: two launches at once could meet on a ROS domain
+pytestmark = pytest.mark.xdist_group("ros2")
 SAMPLE = ROOT / "samples" / "pick_and_place" / "pick_and_place.sysml"
 USER = SAMPLE.parent / "user"
 BRINGUP = "pick_and_place_bringup"
@@ -44,8 +46,8 @@ LAUNCH_TIMEOUT = 120.0  # s: two launches, discovery over the bridge, the barrie
 # bytes each host must have received over its veth during a run: DDS discovery and the links
 # between manip/a and task/a cross it (a run that went through shared memory would not)
 MIN_RECEIVED = 20_000
-# 20 launches across hosts in a full campaign, 2 in the suite's shorter one
-HOST_RUNS = max(2, long_runs(5) * 2 // 5)
+CAMPAIGN = "ros2 hosts"  # tests/support/campaigns.toml
+HOST_RUNS = loaded_runs(CAMPAIGN)
 
 # Fast DDS, as ROS 2 Jazzy configures it, also carries data through shared memory between
 # participants of one machine, and the namespaces are one machine (one /dev/shm): this profile
@@ -170,8 +172,7 @@ def jazzy() -> ros2.Installation:
 
 @pytest.fixture(scope="module")
 def built(workspace: Path, jazzy: ros2.Installation) -> Path:
-    jazzy.colcon_build(workspace)
-    return workspace
+    return jazzy.colcon_build(workspace)
 
 
 @pytest.mark.parametrize("composed", ["true", "false"])
@@ -267,11 +268,8 @@ def received_bytes(host: Host) -> int:
     return int(result.stdout)
 
 
-def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_model(
-        built: Path, jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
-    """hand's launch in one namespace, arm's in another, on one ROS domain, composed at 1 ms
-    periods, under a CPU hog per core; each run stops as soon as manip/a.cs (on arm) reached
-    emergencyStop. HOST_RUNS runs, each on a ROS domain of its own."""
+def hosts_environment(built: Path, jazzy: ros2.Installation) -> dict[str, str]:
+    """The launches' environment: DDS over UDP alone, discovery across the subnet."""
     profile = UDP_ONLY_PROFILE
     env = jazzy.environment(built)
     # the prefix's env.sh keeps discovery on the machine's loopback; here it crosses the veths
@@ -279,6 +277,16 @@ def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_mod
                FASTRTPS_DEFAULT_PROFILES_FILE=str(profile), PICK_AND_PLACE_QUIET="1")
     env.pop("ROS_LOCALHOST_ONLY", None)
     env.pop("ROS_STATIC_PEERS", None)
+    return env
+
+
+@pytest.mark.loaded
+def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_model(
+        built: Path, jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
+    """hand's launch in one namespace, arm's in another, on one ROS domain, composed at 1 ms
+    periods, under a CPU hog per core; each run stops as soon as manip/a.cs (on arm) reached
+    emergencyStop. HOST_RUNS runs, each on a ROS domain of its own."""
+    env = hosts_environment(built, jazzy)
     arm, hand = network.hosts["arm"], network.hosts["hand"]
     failures: list[str] = []
     with cpu_hogs():  # under a CPU hog per core, as the system's launches
@@ -292,8 +300,10 @@ def test_hosts_in_network_namespaces_take_manip_cs_through_the_states_of_the_mod
     assert not failures, f"{len(failures)} of {HOST_RUNS} launches failed:\n" + "\n".join(failures[:2])
 
 
-def run_across_hosts(arm: Host, hand: Host, env: dict[str, str], folder: Path) -> str:
-    """One launch on each host; what went wrong, or an empty string."""
+def run_across_hosts(arm: Host, hand: Host, env: dict[str, str], folder: Path,
+                     seen: Callable[[list[str]], bool] | None = None) -> str:
+    """One launch on each host, until manip/a.cs reached emergencyStop on arm (or ``seen``
+    held); what went wrong, or an empty string."""
     def host_env(host: Host) -> dict[str, str]:
         return {**env, "ROS_LOG_DIR": str(folder / host.name / "log"), "ROS_HOME": str(folder / host.name)}
 
@@ -308,7 +318,7 @@ def run_across_hosts(arm: Host, hand: Host, env: dict[str, str], folder: Path) -
         hand_run = subprocess.Popen(launch(hand), stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     env=host_env(hand), text=True, start_new_session=True)
         try:
-            lines, reached = run_until(launch(arm), lambda out: "emergencyStop" in manip_states(out),
+            lines, reached = run_until(launch(arm), seen or (lambda out: "emergencyStop" in manip_states(out)),
                                        LAUNCH_TIMEOUT, host_env(arm))
         finally:
             stop(hand_run)
@@ -329,3 +339,30 @@ def run_across_hosts(arm: Host, hand: Host, env: dict[str, str], folder: Path) -
         if got < MIN_RECEIVED:
             return f"{host.name} received {got} bytes on its veth"
     return ""
+
+
+@pytest.mark.loaded
+def test_the_checks_across_hosts_catch_a_one_shot_command_into_a_latest_value_input(
+        jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
+    """The known-bad variant (tests/support/known_bad.py) with the same hosts: manip/a.cs's
+    commands a latest-value link across the two hosts and manip/a.cs on its own clock. Under
+    load, a later command overwrites the setpoint before manip/a.cs reads it in one of the
+    runs the campaign keeps."""
+    ws = tmp_path / "ws"
+    model = known_bad.one_shot_into_latest_value(tmp_path / "model", with_hosts(SAMPLE.read_text(encoding="utf-8")))
+    shutil.copytree(USER, ws / "src" / "user")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
+                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    built = jazzy.colcon_build(ws)
+    env = hosts_environment(built, jazzy)
+    arm, hand = network.hosts["arm"], network.hosts["hand"]
+    caught = None
+    with cpu_hogs():
+        for attempt in range(1, catch_runs(CAMPAIGN) + 1):
+            env["ROS_DOMAIN_ID"] = str(random.randint(1, 100))
+            if run_across_hosts(arm, hand, env, tmp_path / f"run{attempt}", known_bad.SetpointWatch(manip_states)):
+                caught = attempt
+                break
+    print(f"\nros2 latest-value variant across hosts: caught in run {caught}")
+    assert caught is not None, f"all {catch_runs(CAMPAIGN)} runs of the latest-value variant reached the sequence"

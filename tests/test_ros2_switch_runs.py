@@ -16,7 +16,7 @@ link is its own topic, ``<output topic>/<link>``. A launch stops as soon as the 
   fallHelp/a starts from its initial state; the harmoniser with guide/a restarted instead of
   resumed leads from the first waypoint again, which the checks of the resumed agent reject;
 * sensitivity: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails the two_arm
-  checks in one of at most CATCH_ATTEMPTS launches.
+  checks within the launches its campaign keeps (campaign.catch_runs).
 
 Run with ``-s`` for the switch latencies (median and worst) and the launch times.
 """
@@ -39,7 +39,7 @@ from earl_m2t.api import load
 from earl_m2t.gen import render
 from earl_m2t.gen.views.switch_wiring import switch_wiring
 from tests.support import ros2
-from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs, long_runs
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks import (
     Harmoniser,
@@ -55,12 +55,16 @@ from tests.support.switch_checks import (
 )
 
 ROOT = Path(__file__).resolve().parents[1]
+# the ROS 2 modules share one worker of a parallel run: two launches at once could meet on a ROS domain
+pytestmark = pytest.mark.xdist_group("ros2")
 TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
 HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
 # GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
-LOADED_RUNS = loaded_runs()
+# the loaded campaigns (tests/support/campaigns.toml), composed or a process per node
+TWO_ARM_CAMPAIGNS = {"true": "ros2 two_arm", "false": "ros2 two_arm processes"}
+HARMONISER_CAMPAIGNS = {"true": "ros2 harmoniser", "false": "ros2 harmoniser processes"}
 LAUNCH_TIMEOUT = 90.0  # s per launch: start-up of the containers (or processes) under load, then the script
 WAYPOINTS_BACK = 5  # the harmoniser's launch stops once guide/a led to this many waypoints back in guiding
 PREFIX = re.compile(r"^\[[^\]]+\] ")  # launch prefixes each line of a process with "[<process>] "
@@ -157,14 +161,9 @@ def gen(model: Path, ws: Path, user: Path | None = None) -> None:
 
 
 def build(jazzy: ros2.Installation, ws: Path, *cmake_flags: str) -> Path:
-    """``colcon build`` with the flags of tests/support/ros2.py (``cmake_flags`` added to its C++ flags)."""
-    command = jazzy.colcon_build_command()
-    if cmake_flags:
-        command = [f"-DCMAKE_CXX_FLAGS=-O0 -g0 {' '.join(cmake_flags)}" if c.startswith("-DCMAKE_CXX_FLAGS=") else c
-                   for c in command]
-    result = subprocess.run(command, cwd=ws, capture_output=True, text=True, env=jazzy.environment(), timeout=3600)
-    assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
-    return ws
+    """``colcon build`` with the flags of tests/support/ros2.py (``cmake_flags`` added to its C++
+    flags), once per content: the built workspace."""
+    return jazzy.colcon_build(ws, *cmake_flags)
 
 
 @pytest.fixture(scope="module")
@@ -219,11 +218,12 @@ def two_arm_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str
     return switches(trace)
 
 
-# composed: the campaign's runs; a process per node: all of them in a full campaign, a fifth in the suite's
-@pytest.mark.parametrize(("composed", "runs"), [("true", LOADED_RUNS), ("false", long_runs(5))])
+@pytest.mark.loaded
+@pytest.mark.parametrize("composed", ["true", "false"])
 def test_two_arm_launches_under_load_hand_every_command_over(
         two_arm: Path, jazzy: ros2.Installation, two_arm_switches: list[tuple[str, str]], tmp_path: Path,
-        composed: str, runs: int) -> None:
+        composed: str) -> None:
+    runs = loaded_runs(TWO_ARM_CAMPAIGNS[composed])
     timeouts = switch_timeouts_ms(two_arm)
     failures: list[str] = []
     latencies: list[float] = []
@@ -240,23 +240,26 @@ def test_two_arm_launches_under_load_hand_every_command_over(
     assert not failures, f"{len(failures)} of {runs} launches failed:\n" + "\n".join(failures[:2])
 
 
+@pytest.mark.loaded
+@pytest.mark.parametrize("composed", ["true", "false"])
 def test_two_arm_checks_catch_a_build_that_skips_the_drain(
         tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation,
-        two_arm_switches: list[tuple[str, str]], tmp_path: Path) -> None:
+        two_arm_switches: list[tuple[str, str]], tmp_path: Path, composed: str) -> None:
     ws = tmp_path_factory.mktemp("two_arm_ros2_undrained_ws")
     gen(TWO_ARM, ws)
-    build(jazzy, ws, "-DEARL_SWITCH_DRAIN=0")
+    ws = build(jazzy, ws, "-DEARL_SWITCH_DRAIN=0")
     timeouts = switch_timeouts_ms(ws)
+    runs = catch_runs(TWO_ARM_CAMPAIGNS[composed])
     caught = None
     with cpu_hogs():
-        for attempt in range(CATCH_ATTEMPTS):
-            lines, reached, _ = launch(ws, jazzy, tmp_path, TwoArm.finished)
+        for attempt in range(runs):
+            lines, reached, _ = launch(ws, jazzy, tmp_path, TwoArm.finished, composed)
             found = two_arm_problems(lines, reached, two_arm_switches, timeouts)
             if found:
                 caught = f"launch {attempt + 1}: {found}"
                 break
-    print(f"\ntwo_arm (ros2) without the drain: {caught}")
-    assert caught is not None, f"all {CATCH_ATTEMPTS} launches of the drain-skipping build passed the checks"
+    print(f"\ntwo_arm (ros2, composed={composed}) without the drain: {caught}")
+    assert caught is not None, f"all {runs} launches of the drain-skipping build passed the checks"
 
 
 # ------------------------------------------------------------------ harmoniser
@@ -284,11 +287,12 @@ def harmoniser_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[
     return switches(trace)
 
 
-# composed: the campaign's runs; a process per node: all of them in a full campaign, a fifth in the suite's
-@pytest.mark.parametrize(("composed", "runs"), [("true", LOADED_RUNS), ("false", long_runs(5))])
+@pytest.mark.loaded
+@pytest.mark.parametrize("composed", ["true", "false"])
 def test_harmoniser_launches_under_load_resume_the_guide_agent(
         harmoniser: Path, jazzy: ros2.Installation, harmoniser_switches: list[tuple[str, str]], tmp_path: Path,
-        composed: str, runs: int) -> None:
+        composed: str) -> None:
+    runs = loaded_runs(HARMONISER_CAMPAIGNS[composed])
     timeouts = switch_timeouts_ms(harmoniser)
     failures: list[str] = []
     latencies: list[float] = []
@@ -306,18 +310,15 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
 
 
 def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_checks(
-        harmoniser: Path, jazzy: ros2.Installation, harmoniser_switches: list[tuple[str, str]],
-        tmp_path: Path) -> None:
-    """The harmoniser's workspace regenerated from the model with guide/a restarted instead of
-    resumed, and built again (only what changed: colcon keeps the build folders), so it runs
-    last in this module."""
+        jazzy: ros2.Installation, harmoniser_switches: list[tuple[str, str]], tmp_path: Path) -> None:
+    """The harmoniser generated from the model with guide/a restarted instead of resumed, and built."""
     text = HARMONISER.with_suffix(".sysml").read_text(encoding="utf-8")
     assert text.count(GUIDE_RESUMES) == 1
     restarted = tmp_path / "harmoniser.sysml"
     restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
-    gen(restarted, harmoniser, user=HARMONISER.parent / "user")
-    build(jazzy, harmoniser)
-    lines, reached, _ = launch(harmoniser, jazzy, tmp_path, back_in_guiding)
+    gen(restarted, tmp_path / "ws", user=HARMONISER.parent / "user")
+    ws = build(jazzy, tmp_path / "ws")
+    lines, reached, _ = launch(ws, jazzy, tmp_path, back_in_guiding)
     assert reached and switches(lines) == harmoniser_switches and not undelivered(lines), notable(lines)
     assert Harmoniser.first_waypoint_back(lines) == 1
     assert any(Harmoniser.GUIDE_START.match(line) for line in lines[Harmoniser.resumed_at(lines)[1]:])

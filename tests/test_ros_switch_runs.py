@@ -32,7 +32,7 @@ import pytest
 from earl_m2t.api import load
 from earl_m2t.gen import render
 from earl_m2t.gen.views.switch_wiring import switch_wiring
-from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.load import cpu_hogs, run_until
 from tests.support.ros_launch import (
     catkin_make,
@@ -63,7 +63,9 @@ HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
 # GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
 GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
                  "            part cs : GuideControl;\n")
-LOADED_RUNS = loaded_runs()
+TWO_ARM_CAMPAIGN, HARMONISER_CAMPAIGN = "ros two_arm", "ros harmoniser"  # tests/support/campaigns.toml
+TWO_ARM_RUNS = loaded_runs(TWO_ARM_CAMPAIGN)
+HARMONISER_RUNS = loaded_runs(HARMONISER_CAMPAIGN)
 LAUNCH_TIMEOUT = 30.0  # s per launch: start-up of the nodes under load, then well under a second of script
 WAYPOINTS_BACK = 5  # the harmoniser's launch stops once guide/a led to this many waypoints back in guiding
 
@@ -184,6 +186,7 @@ def two_arm_switches(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str
     return switches(trace)
 
 
+@pytest.mark.loaded
 @launched
 def test_two_arm_launches_under_load_hand_every_command_over(
         two_arm: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy],
@@ -193,7 +196,7 @@ def test_two_arm_launches_under_load_hand_every_command_over(
     latencies: list[float] = []
     seconds: list[float] = []
     with cpu_hogs():
-        for attempt in range(LOADED_RUNS):
+        for attempt in range(TWO_ARM_RUNS):
             lines, reached, took = launch(two_arm, core, TwoArm.finished)
             seconds.append(took)
             latencies += latencies_ms(lines)
@@ -201,9 +204,10 @@ def test_two_arm_launches_under_load_hand_every_command_over(
             if found:
                 failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
     report("two_arm", latencies, seconds)
-    assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures)
+    assert not failures, f"{len(failures)} of {TWO_ARM_RUNS} launches failed:\n" + "\n".join(failures)
 
 
+@pytest.mark.loaded
 @launched
 def test_two_arm_checks_catch_a_build_that_skips_the_drain(
         tmp_path_factory: pytest.TempPathFactory, core: tuple[Path, int, xmlrpc.client.ServerProxy],
@@ -213,14 +217,15 @@ def test_two_arm_checks_catch_a_build_that_skips_the_drain(
     timeouts = switch_timeouts_ms(ws)
     caught = None
     with cpu_hogs():
-        for attempt in range(CATCH_ATTEMPTS):
+        for attempt in range(catch_runs(TWO_ARM_CAMPAIGN)):
             lines, reached, _ = launch(ws, core, TwoArm.finished)
             found = two_arm_problems(lines, reached, two_arm_switches, timeouts)
             if found:
                 caught = f"launch {attempt + 1}: {found}"
                 break
     print(f"\ntwo_arm without the drain: {caught}")
-    assert caught is not None, f"all {CATCH_ATTEMPTS} launches of the drain-skipping build passed the checks"
+    assert caught is not None, (f"all {catch_runs(TWO_ARM_CAMPAIGN)} launches of the drain-skipping build "
+                                "passed the checks")
 
 
 # ------------------------------------------------------------------ harmoniser
@@ -243,6 +248,7 @@ def harmoniser_problems(lines: Lines, reached: bool, expected: list[tuple[str, s
     return found + [problem for problem in Harmoniser.problems(lines) if problem not in found]
 
 
+@pytest.mark.loaded
 @launched
 def test_harmoniser_launches_under_load_resume_the_guide_agent(
         harmoniser: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy],
@@ -255,7 +261,7 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
     latencies: list[float] = []
     seconds: list[float] = []
     with cpu_hogs():
-        for attempt in range(LOADED_RUNS):
+        for attempt in range(HARMONISER_RUNS):
             lines, reached, took = launch(harmoniser, core, back_in_guiding)
             seconds.append(took)
             latencies += latencies_ms(lines)
@@ -263,7 +269,7 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
             if found:
                 failures.append(f"launch {attempt + 1}: {found}\n{notable(lines)}")
     report("harmoniser", latencies, seconds)
-    assert not failures, f"{len(failures)} of {LOADED_RUNS} launches failed:\n" + "\n".join(failures)
+    assert not failures, f"{len(failures)} of {HARMONISER_RUNS} launches failed:\n" + "\n".join(failures)
 
 
 @launched
@@ -276,7 +282,7 @@ def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_che
     restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
     ws = folder / "ws"
     generate(restarted, HARMONISER.parent / "user", ws)
-    catkin_make(ws)
+    ws = catkin_make(ws)
     lines, reached, _ = launch(ws, core, back_in_guiding)
     assert reached and switches(lines) == Harmoniser.SWITCHES and not undelivered(lines)
     assert Harmoniser.first_waypoint_back(lines) == 1

@@ -13,11 +13,14 @@ import re
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
-from tests.support.campaign import loaded_runs
+from tests.support import known_bad
+from tests.support.campaign import catch_runs, loaded_runs
+from tests.support.cpp_sample import cmake_project
 from tests.support.load import cpu_hogs, run_until
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -36,7 +39,8 @@ TASK = re.compile(r"^step \d+ task/a\.cs: (jointMove setpoint|motion finished|em
 # The loaded threaded campaign: 50 runs, each stopped as soon as manip/a.cs reached
 # emergencyStop (about 0.85 s of the sample's script at the threaded period of 1 ms), with
 # one busy process per CPU; about 50 s in all.
-LOADED_RUNS = loaded_runs()
+CAMPAIGN = "cpp pick_and_place"  # tests/support/campaigns.toml
+LOADED_RUNS = loaded_runs(CAMPAIGN)
 LOADED_TIMEOUT = 20.0  # s per run: far beyond the 0.85 s the script needs
 SEQUENCE = ["idle", "jointMove", "idle", "emergencyStop"]
 
@@ -55,13 +59,10 @@ def project(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     """(the build folder, gen's output): the sample's user code copied into an empty folder,
     gen run over it, the project built once."""
     base = tmp_path_factory.mktemp("sample_runs")
-    out, build = base / "out", base / "build"
+    out = base / "out"
     shutil.copytree(USER, out / "user")
     gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
-    run("cmake", "-S", out, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-        "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
-    run("cmake", "--build", build, "-j", str(os.cpu_count() or 2), timeout=300)
-    return build, gen
+    return cmake_project(out), gen
 
 
 @pytest.fixture(scope="module")
@@ -141,18 +142,46 @@ def manip_states(lines: list[str]) -> list[str]:
     return [m.group(2) or m.group(4) for m in map(STATE.match, lines) if m]
 
 
+def missed_sequence(build: Path, plan: str, seen: Callable[[list[str]], bool] | None = None) -> str | None:
+    """One threaded run at 1 ms, stopped once manip/a.cs reached emergencyStop (or ``seen``
+    held): what went wrong, or None when manip/a.cs went through SEQUENCE."""
+    env = {**os.environ, "PICK_AND_PLACE_QUIET": "1"}
+    command = [build / "PickAndPlace_system", "--threaded", str(LOADED_TIMEOUT), "--threads", plan]
+    lines, reached = run_until(command, seen or (lambda out: "emergencyStop" in manip_states(out)),
+                               LOADED_TIMEOUT, env)
+    return None if reached and manip_states(lines) == SEQUENCE else f"{manip_states(lines)}"
+
+
+@pytest.mark.loaded
 @pytest.mark.parametrize("plan", ["period", "subsystem"])
 def test_threaded_runs_reach_the_sequence_under_load(project: tuple[Path, str], plan: str) -> None:
     """Threaded at 1 ms (the periodic subsystems a thread per period, or each its own), the
     machine loaded: task/a's one-shot setpoint is never lost (manipulatorCommand/ib is a queue
     and activates manip/a.cs), so every run goes idle -> jointMove -> idle -> emergencyStop."""
     build, _ = project
-    env = {**os.environ, "PICK_AND_PLACE_QUIET": "1"}
-    command = [build / "PickAndPlace_system", "--threaded", str(LOADED_TIMEOUT), "--threads", plan]
     failures = []
     with cpu_hogs():
         for attempt in range(LOADED_RUNS):
-            lines, reached = run_until(command, lambda out: "emergencyStop" in manip_states(out), LOADED_TIMEOUT, env)
-            if not reached or manip_states(lines) != SEQUENCE:
-                failures.append(f"run {attempt + 1}: {manip_states(lines)}")
+            missed = missed_sequence(build, plan)
+            if missed:
+                failures.append(f"run {attempt + 1}: {missed}")
     assert not failures, f"{len(failures)} of {LOADED_RUNS} runs missed the sequence:\n" + "\n".join(failures)
+
+
+@pytest.mark.loaded
+def test_the_checks_catch_a_one_shot_command_into_a_latest_value_input(tmp_path: Path) -> None:
+    """The known-bad variant (tests/support/known_bad.py): manip/a.cs's commands kept as the
+    latest value only, manip/a.cs on its own clock in a thread of its own. Stepped, the executor
+    runs task/a.cs and manip/a.cs in turn and the setpoint is read; threaded under load, a later
+    command overwrites it in one of the runs the campaign keeps."""
+    out = tmp_path / "out"
+    shutil.copytree(USER, out / "user")
+    model = known_bad.one_shot_into_latest_value(tmp_path)
+    run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "cpp", "-o", out)
+    build = cmake_project(out)
+    stepped = run(build / "PickAndPlace_system", "--cycles", str(CYCLES))
+    assert manip_states(stepped.splitlines()) == SEQUENCE
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(1, catch_runs(CAMPAIGN) + 1)
+                       if missed_sequence(build, "subsystem", known_bad.SetpointWatch(manip_states))), None)
+    assert caught is not None, f"all {catch_runs(CAMPAIGN)} runs of the latest-value variant reached the sequence"

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.campaign import CATCH_ATTEMPTS, loaded_runs
+from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
 from tests.support.switch_checks import SWITCH, TwoArm
@@ -38,15 +38,16 @@ COMMANDS = TwoArm.COMMANDS
 SWITCHES = TwoArm.SWITCHES
 TIMEOUT_MS = TwoArm.TIMEOUT_MS
 CYCLES = 6000
-LOADED_RUNS = loaded_runs()
+CAMPAIGN = "cpp two_arm"  # tests/support/campaigns.toml
+LOADED_RUNS = loaded_runs(CAMPAIGN)
 RUN_TIMEOUT = 10.0  # s per threaded run: the sample needs about 0.25 s
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
                                 reason="g++ and cmake are needed")
 
 
-def build(out: Path, folder: Path, *flags: str) -> Path:
-    return cmake_build(out, folder, "TwoArm_system", *flags)
+def build(out: Path, *flags: str) -> Path:
+    return cmake_build(out, "TwoArm_system", *flags)
 
 
 @pytest.fixture(scope="module")
@@ -57,12 +58,12 @@ def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(scope="module")
 def drained(generated: Path) -> Path:
-    return build(generated, generated.parent / "build")
+    return build(generated)
 
 
 @pytest.fixture(scope="module")
 def undrained(generated: Path) -> Path:
-    return build(generated, generated.parent / "build_undrained", "-DEARL_SWITCH_DRAIN=0")
+    return build(generated, "-DEARL_SWITCH_DRAIN=0")
 
 
 problems = TwoArm.problems
@@ -82,6 +83,7 @@ def test_the_deterministic_run_is_repeatable_and_hands_every_command_over(draine
     assert first[-1] == f"ran TwoArmCell for {CYCLES} cycles"
 
 
+@pytest.mark.loaded
 def test_threaded_runs_under_load_hand_every_command_over(drained: Path) -> None:
     failures, latencies = [], []
     with cpu_hogs():
@@ -97,11 +99,12 @@ def test_threaded_runs_under_load_hand_every_command_over(drained: Path) -> None
           f"{latencies[len(latencies) // 2]:.3f} ms, worst {latencies[-1]:.3f} ms")
 
 
+@pytest.mark.loaded
 def test_the_checks_catch_a_switch_that_skips_the_drain(undrained: Path) -> None:
     assert problems(run(undrained, "--cycles", str(CYCLES)).splitlines())
     with cpu_hogs():
-        caught = next((attempt for attempt in range(CATCH_ATTEMPTS) if problems(threaded_run(undrained))), None)
-    assert caught is not None, f"all {CATCH_ATTEMPTS} runs of the drain-skipping build passed the checks"
+        caught = next((attempt for attempt in range(catch_runs(CAMPAIGN)) if problems(threaded_run(undrained))), None)
+    assert caught is not None, f"all {catch_runs(CAMPAIGN)} runs of the drain-skipping build passed the checks"
 
 
 def test_no_heap_allocation_per_cycle_switches_included(generated: Path) -> None:

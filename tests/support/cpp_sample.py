@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tests.support import build_cache
+
 
 def run(*command: str | Path, timeout: int = 300) -> str:
     """stdout of ``command``; a failure fails the test with both streams."""
@@ -25,9 +27,20 @@ def generate_with_user_code(model: Path, user: Path, out: Path) -> Path:
     return out
 
 
-def cmake_build(source: Path, folder: Path, target: str, *flags: str) -> Path:
-    """The executable ``target`` of the project in ``source``, built in ``folder``."""
-    run("cmake", "-S", source, "-B", folder, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
-        "-DCMAKE_CXX_FLAGS=" + " ".join(("-Wall", "-Wextra", "-Werror", *flags)))
-    run("cmake", "--build", folder, "-j", "2", "--target", target)
-    return folder / target
+def cmake_project(source: Path, *flags: str, target: str | None = None) -> Path:
+    """The build folder of the CMake project in ``source`` (Release, warnings as errors, ``flags``
+    added; every target, or ``target`` alone), built once per content (tests/support/build_cache.py)."""
+    configure = ["-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_COMPILER=g++",
+                 "-DCMAKE_CXX_FLAGS=" + " ".join(("-Wall", "-Wextra", "-Werror", *flags))]
+    targets = ["--target", target] if target else []
+
+    def build(folder: Path) -> None:
+        run("cmake", "-S", folder / build_cache.SOURCE, "-B", folder / "build", *configure)
+        run("cmake", "--build", folder / "build", "-j", "2", *targets)
+
+    return build_cache.built(f"cpp-{target or 'all'}", source, build, ["cmake", *configure, *targets]) / "build"
+
+
+def cmake_build(source: Path, target: str, *flags: str) -> Path:
+    """The executable ``target`` of the CMake project in ``source``, built as :func:`cmake_project` builds."""
+    return cmake_project(source, *flags, target=target) / target

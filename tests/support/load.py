@@ -12,17 +12,22 @@ import shutil
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 HOG = "while True:\n    pass\n"
+POLL_SECONDS = 0.2
 
 
 @contextmanager
 def cpu_hogs(count: int | None = None) -> Iterator[list[subprocess.Popen[bytes]]]:
     """``count`` (default: one per CPU) processes spinning at full speed, stopped on exit
     whatever happens inside."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        raise RuntimeError("a loaded test runs alone on the machine: mark it @pytest.mark.loaded, which "
+                           "./dev test runs after the parallel tests, one at a time")
     hogs: list[subprocess.Popen[bytes]] = []
     try:
         for _ in range(count or os.cpu_count() or 2):
@@ -60,20 +65,29 @@ def run_until(command: Sequence[str | Path], seen: Callable[[list[str]], bool], 
                                    stdin=subprocess.DEVNULL, env=env, cwd=cwd, text=True, start_new_session=True)
     lines: list[str] = []
     done = threading.Event()
+    asking = threading.Lock()  # ``seen`` is never asked from two threads at once
+
+    def holds() -> bool:
+        with asking:
+            return seen(lines)
 
     def read() -> None:
         assert process.stdout is not None
         for line in process.stdout:
             lines.append(line.rstrip("\n"))
-            if seen(lines):
-                done.set()
+            if holds():
                 break
         done.set()
 
     reader = threading.Thread(target=read, daemon=True)
     reader.start()
-    done.wait(timeout)
-    ok = seen(list(lines))
+    deadline = time.monotonic() + timeout
+    # ``seen`` is asked between lines as well, so that it may decide on the time passed too (a
+    # run that has printed nothing new for a while has shown what it will show)
+    while not done.wait(max(0.0, min(POLL_SECONDS, deadline - time.monotonic()))):
+        if time.monotonic() >= deadline or holds():
+            break
+    ok = holds()
     stop(process, graceful)
     reader.join(5)
     return lines, ok

@@ -63,6 +63,28 @@ class Installation:
         return env
 
 
+def built_project(source: Path, rtt: Installation, *flags: str) -> Path:
+    """A generated Orocos project (``source``) configured against ``rtt`` (``flags`` as its C++
+    flags), built and installed, once per content (tests/support/build_cache.py): the folder
+    holding ``build/``, ``install/`` (with ``lib/orocos``) and ``build.log``, the output of the
+    three commands, for the checks of compiler warnings."""
+    from tests.support import build_cache
+
+    configure = [f"-DCMAKE_PREFIX_PATH={rtt.prefix}", "-DCMAKE_CXX_FLAGS=" + " ".join(flags)]
+
+    def build_and_install(folder: Path) -> None:
+        output = []
+        for command in (["cmake", "-S", str(folder / build_cache.SOURCE), "-B", str(folder / "build"), *configure],
+                        ["cmake", "--build", str(folder / "build"), "-j", str(os.cpu_count() or 2)],
+                        ["cmake", "--install", str(folder / "build"), "--prefix", str(folder / "install")]):
+            result = subprocess.run(command, capture_output=True, text=True, timeout=900, env=rtt.environment([]))
+            output.append(result.stdout + result.stderr)
+            assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
+        (folder / "build.log").write_text("".join(output))
+
+    return build_cache.built("orocos", source, build_and_install, ["cmake", *configure])
+
+
 def is_usable(prefix: Path) -> bool:
     """RTT's pkg-config file and OCL's deployer are both there."""
     return ((prefix / "lib" / "pkgconfig" / "orocos-rtt-gnulinux.pc").is_file()

@@ -75,11 +75,20 @@ class Installation:
             env["ROS_DOMAIN_ID"] = str(domain_id)
         return env
 
-    def colcon_build(self, workspace: Path) -> None:
-        """``colcon build`` of ``workspace``; a failure fails the calling test with colcon's output."""
-        result = subprocess.run(self.colcon_build_command(), cwd=workspace, capture_output=True, text=True,
-                                env=self.environment(), timeout=1800)
-        assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+    def colcon_build(self, workspace: Path, *cxx_flags: str) -> Path:
+        """``colcon build`` of ``workspace`` (its src/), ``cxx_flags`` added to the C++ flags, once
+        per content (tests/support/build_cache.py): the built workspace, holding src/, build/ and
+        install/. A failure fails the calling test with colcon's output."""
+        from tests.support import build_cache
+
+        command = self.colcon_build_command(*cxx_flags)
+
+        def build(folder: Path) -> None:
+            result = subprocess.run(command, cwd=folder, capture_output=True, text=True, env=self.environment(),
+                                    timeout=1800)
+            assert result.returncode == 0, f"colcon build failed:\n{result.stdout[-6000:]}\n{result.stderr[-6000:]}"
+
+        return build_cache.built("colcon", workspace / "src", build, [str(self.prefix), *command])
 
     def launch_description(self, workspace: Path, launch_file: Path, **arguments: str) -> list[dict[str, Any]]:
         """The nodes ``launch_file`` would start with ``name:=value`` arguments, as launch's own
@@ -92,10 +101,12 @@ class Installation:
         nodes: list[dict[str, Any]] = json.loads(result.stdout)["nodes"]
         return nodes
 
-    def colcon_build_command(self) -> list[str]:
-        """colcon build with the flags of the README's `Use` section."""
+    def colcon_build_command(self, *cxx_flags: str) -> list[str]:
+        """colcon build with the flags of the README's `Use` section, ``cxx_flags`` added to its C++ flags."""
+        cmake_args = [f"{argument} {' '.join(cxx_flags)}" if cxx_flags and argument.startswith("-DCMAKE_CXX_FLAGS=")
+                      else argument for argument in COLCON_CMAKE_ARGS]
         return ["colcon", "build", "--event-handlers", "console_direct-", "console_stderr+",
-                "--cmake-args", *COLCON_CMAKE_ARGS, f"-DPython3_EXECUTABLE={self.python}"]
+                "--cmake-args", *cmake_args, f"-DPython3_EXECUTABLE={self.python}"]
 
 
 def generated_parameters(path: Path) -> dict[str, dict[str, Any]]:

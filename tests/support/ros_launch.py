@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.support import build_cache
+
 PYTHON = "/usr/bin/python3"  # the system python, which has catkin_pkg
 
 needs_catkin = pytest.mark.skipif(
@@ -45,9 +47,14 @@ def generate(model: Path, user: Path, ws: Path) -> str:
 
 
 def catkin_make(ws: Path, *flags: str) -> Path:
-    run("catkin_make", "-C", ws, f"-DPYTHON_EXECUTABLE={PYTHON}", "-j", str(os.cpu_count() or 2), *flags,
-        timeout=900)
-    return ws
+    """The workspace ``ws`` (its src/) built with catkin_make, once per content
+    (tests/support/build_cache.py): a workspace folder holding src/, build/ and devel/."""
+    command = ["catkin_make", f"-DPYTHON_EXECUTABLE={PYTHON}", "-j", str(os.cpu_count() or 2), *flags]
+
+    def build(folder: Path) -> None:
+        run(command[0], "-C", folder, *command[1:], timeout=900)
+
+    return build_cache.built("catkin", ws / "src", build, command)
 
 
 def free_port() -> int:

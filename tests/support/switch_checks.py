@@ -198,7 +198,7 @@ class Harmoniser:
 def cpp_trace(model: Path, folder: Path, target: str, cycles: int) -> list[str]:
     """The C++ target's deterministic run of ``model`` (its shipped user code)."""
     out = generate_with_user_code(model, model.parent / "user", folder / "out")
-    return run_cpp(cmake_build(out, folder / "build", target), "--cycles", str(cycles)).splitlines()
+    return run_cpp(cmake_build(out, target), "--cycles", str(cycles)).splitlines()
 
 
 def switch_timeouts_ms(ws: Path) -> dict[str, float]:
