@@ -29,11 +29,16 @@ MODEL_SUFFIXES = {".uml", ".xmi", ".xml", ".mdzip", ".sysml"}
 GENERATED = "bench/generate.py --agents 5 --subsystems 2 --behaviours 5"
 
 
+# The OMG SysML v2 release (examples and standard library) in the corpus is far beyond the
+# subset the SysML v2 reader knows; its findings are not held here (tests/test_corpus.py).
+OMG_RELEASE = SHARED / "corpus" / "sysmlv2-omg"
+
+
 def model_files() -> list[Path]:
     folders = [ROOT / "samples", ROOT / "tests" / "fixtures", ROOT / "tests" / "fuzz" / "regressions",
                SHARED / "corpus"]
     return sorted(path for folder in folders for path in folder.rglob("*")
-                  if path.suffix in MODEL_SUFFIXES and path.is_file())
+                  if path.suffix in MODEL_SUFFIXES and path.is_file() and not path.is_relative_to(OMG_RELEASE))
 
 
 def label(path: Path) -> str:
