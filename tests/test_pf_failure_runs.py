@@ -39,13 +39,18 @@ def run(*command: str | Path, env: dict[str, str] | None = None,
 
 
 @pytest.fixture(scope="module")
-def system(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    base = tmp_path_factory.mktemp("pf_failure")
-    out = base / "out"
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """gen's output for the sample over the faulty user code."""
+    out = tmp_path_factory.mktemp("pf_failure") / "out"
     copy_faulty_user(out / "user")
     gen = run(sys.executable, "-m", "earl_m2t", "gen", SAMPLE, "--target", "cpp", "-o", out)
     assert gen.returncode == 0, gen.stderr
-    return cmake_build(out, "PickAndPlace_system")
+    return out
+
+
+@pytest.fixture(scope="module")
+def system(generated: Path) -> Path:
+    return cmake_build(generated, "PickAndPlace_system")
 
 
 def trace(system: Path, fault: str, *arguments: str) -> list[str]:
@@ -126,11 +131,10 @@ def test_a_policy_that_is_not_one_is_refused(system: Path) -> None:
 
 
 @pytest.mark.parametrize("fault", ["fail", "nan"])
-def test_the_failure_path_allocates_nothing(system: Path, fault: str) -> None:
+def test_the_failure_path_allocates_nothing(generated: Path, fault: str) -> None:
     """bench/cpp/alloc_main.cpp over the faulty build: one start-up cycle, then the cycles in
     which the pf fails (fail() at manip/a.cs's third, NaN from its 100th) are counted."""
-    out = system.parent.parent / "out"
-    binary = compile_(out, out.parent / "alloc_main", "alloc_main.cpp", "count_new.cpp")
+    binary = compile_(generated, generated.parent / "alloc_main", "alloc_main.cpp", "count_new.cpp")
     result = subprocess.run([str(binary), "--startup", "1", "--cycles", "2000", "--threaded", "0"],
                             capture_output=True, text=True, timeout=120, env={**os.environ, "EARL_FAULT": fault})
     assert result.returncode == 0, result.stderr

@@ -105,8 +105,8 @@ def launch(ws: Path, core: tuple[Path, int, xmlrpc.client.ServerProxy], seen: Ca
            ) -> tuple[Lines, bool, float]:
     """One launch of the system until ``seen``: (its output, stripped, whether seen, seconds)."""
     home, port, master = core
+    clear_start_barrier(master)  # first: it waits for the master, which may still be starting
     forget_nodes(master)  # the previous launch's, killed without unregistering
-    clear_start_barrier(master)
     bringup = next(p.parent.name for p in (ws / "src").glob("*_bringup/package.xml"))
     started = time.monotonic()
     lines, reached = run_until(["roslaunch", "--wait", bringup, "system.launch", "period:=0.001"],
