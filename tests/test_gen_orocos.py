@@ -453,6 +453,17 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
                           + "\n".join(failures[:3]))
 
 
+def latest_value_installed(rtt: orocos.Installation, folder: Path) -> tuple[Path, Path]:
+    """(gen's output, the install prefix) of the known-bad variant (tests/support/known_bad.py),
+    built once per content: tests/test_known_bad_builds.py builds it among the parallel tests."""
+    out = folder / "out"
+    shutil.copytree(USER, out / "user")
+    result = earl("gen", str(known_bad.one_shot_into_latest_value(folder / "model")), "--target", "orocos",
+                  "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    return out, orocos.built_project(out, rtt) / "install"
+
+
 @pytest.mark.loaded
 def test_the_deployer_checks_catch_a_one_shot_command_into_a_latest_value_input(rtt: orocos.Installation,
                                                                                tmp_path: Path) -> None:
@@ -462,12 +473,7 @@ def test_the_deployer_checks_catch_a_one_shot_command_into_a_latest_value_input(
     a later command overwrites the setpoint before manip/a.cs reads it in one of the
     deployments the campaign keeps. (With both at 2 ms it happens in about one deployment in
     twelve: too rare for the campaign's runs to show.)"""
-    out = tmp_path / "out"
-    shutil.copytree(USER, out / "user")
-    result = earl("gen", str(known_bad.one_shot_into_latest_value(tmp_path / "model")), "--target", "orocos",
-                  "-o", str(out))
-    assert result.returncode == 0, result.stderr
-    installed = orocos.built_project(out, rtt) / "install"
+    out, installed = latest_value_installed(rtt, tmp_path)
     deploy = at_period(out / "deploy", tmp_path / "deploy", LOADED_PERIOD)
     manip = deploy / "manip_a_cs.ops"
     slower = f'setActivity("manip_a_cs", {LOADED_PERIOD}, ', f'setActivity("manip_a_cs", {5 * LOADED_PERIOD}, '

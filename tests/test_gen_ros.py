@@ -215,6 +215,16 @@ def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(buil
     assert not failures, f"{len(failures)} of {LOADED_RUNS} launches missed the sequence:\n" + "\n".join(failures[:3])
 
 
+def latest_value_built(folder: Path) -> Path:
+    """The known-bad variant's workspace (tests/support/known_bad.py), built (once per content:
+    tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    ws = folder / "ws"
+    shutil.copytree(USER, ws / "src" / "user")
+    run(sys.executable, "-m", "earl_m2t", "gen", known_bad.one_shot_into_latest_value(folder / "model"),
+        "--target", "ros", "-o", ws / "src")
+    return catkin_make(ws)
+
+
 @pytest.mark.loaded
 @needs_catkin
 @needs_roslaunch
@@ -222,11 +232,7 @@ def test_the_launch_checks_catch_a_one_shot_command_into_a_latest_value_input(tm
     """The known-bad variant (tests/support/known_bad.py): manip/a.cs's commands a latest-value
     input and manip/a.cs on its own clock. Launched under load, a later command overwrites the
     setpoint before manip/a.cs reads it in one of the launches the campaign keeps."""
-    ws = tmp_path / "ws"
-    shutil.copytree(USER, ws / "src" / "user")
-    run(sys.executable, "-m", "earl_m2t", "gen", known_bad.one_shot_into_latest_value(tmp_path / "model"),
-        "--target", "ros", "-o", ws / "src")
-    built = catkin_make(ws)
+    built = latest_value_built(tmp_path)
     with roscore(tmp_path) as (port, master), cpu_hogs():
         env = {**environment(built, tmp_path, port), "PICK_AND_PLACE_QUIET": "1"}
         caught = next((attempt for attempt in range(1, catch_runs(CAMPAIGN) + 1)

@@ -305,6 +305,18 @@ def test_launches_under_load_take_manip_cs_through_the_states_of_the_model(
     assert not failures, f"{len(failures)} of {runs} launches failed:\n" + "\n".join(failures[:2])
 
 
+def latest_value_built(jazzy: ros2.Installation, folder: Path) -> Path:
+    """The known-bad variant's workspace (tests/support/known_bad.py), built (once per content:
+    tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    ws = folder / "ws"
+    shutil.copytree(USER, ws / "src" / "user")
+    model = known_bad.one_shot_into_latest_value(folder / "model")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
+                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return jazzy.colcon_build(ws)
+
+
 @pytest.mark.loaded
 @pytest.mark.parametrize("composed", ["true", "false"])
 def test_the_launch_checks_catch_a_one_shot_command_into_a_latest_value_input(
@@ -313,13 +325,7 @@ def test_the_launch_checks_catch_a_one_shot_command_into_a_latest_value_input(
     link (reliable, transient local, depth 1) and manip/a.cs on its own clock. Launched under
     load, a later command overwrites the setpoint before manip/a.cs reads it in one of the
     launches the campaign keeps."""
-    ws = tmp_path / "ws"
-    shutil.copytree(USER, ws / "src" / "user")
-    model = known_bad.one_shot_into_latest_value(tmp_path / "model")
-    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
-                             str(ws / "src")], capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, result.stderr
-    built = jazzy.colcon_build(ws)
+    built = latest_value_built(jazzy, tmp_path)
     env = launch_environment(built, jazzy, tmp_path)
     runs = catch_runs(CAMPAIGNS[composed])
     with cpu_hogs():

@@ -341,6 +341,18 @@ def run_across_hosts(arm: Host, hand: Host, env: dict[str, str], folder: Path,
     return ""
 
 
+def latest_value_built(jazzy: ros2.Installation, folder: Path) -> Path:
+    """The known-bad variant's workspace with the hosts (tests/support/known_bad.py), built (once
+    per content: tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    ws = folder / "ws"
+    model = known_bad.one_shot_into_latest_value(folder / "model", with_hosts(SAMPLE.read_text(encoding="utf-8")))
+    shutil.copytree(USER, ws / "src" / "user")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
+                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return jazzy.colcon_build(ws)
+
+
 @pytest.mark.loaded
 def test_the_checks_across_hosts_catch_a_one_shot_command_into_a_latest_value_input(
         jazzy: ros2.Installation, network: Network, tmp_path: Path) -> None:
@@ -348,13 +360,7 @@ def test_the_checks_across_hosts_catch_a_one_shot_command_into_a_latest_value_in
     commands a latest-value link across the two hosts and manip/a.cs on its own clock. Under
     load, a later command overwrites the setpoint before manip/a.cs reads it in one of the
     runs the campaign keeps."""
-    ws = tmp_path / "ws"
-    model = known_bad.one_shot_into_latest_value(tmp_path / "model", with_hosts(SAMPLE.read_text(encoding="utf-8")))
-    shutil.copytree(USER, ws / "src" / "user")
-    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
-                             str(ws / "src")], capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, result.stderr
-    built = jazzy.colcon_build(ws)
+    built = latest_value_built(jazzy, tmp_path)
     env = hosts_environment(built, jazzy)
     arm, hand = network.hosts["arm"], network.hosts["hand"]
     caught = None

@@ -166,6 +166,13 @@ def build(jazzy: ros2.Installation, ws: Path, *cmake_flags: str) -> Path:
     return jazzy.colcon_build(ws, *cmake_flags)
 
 
+def undrained_built(jazzy: ros2.Installation, ws: Path) -> Path:
+    """two_arm built with the drain skipped (test-only), the known-bad variant of its campaigns
+    (built once per content: tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    gen(TWO_ARM, ws)
+    return build(jazzy, ws, "-DEARL_SWITCH_DRAIN=0")
+
+
 @pytest.fixture(scope="module")
 def two_arm(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
     ws = tmp_path_factory.mktemp("two_arm_ros2_ws")
@@ -245,9 +252,7 @@ def test_two_arm_launches_under_load_hand_every_command_over(
 def test_two_arm_checks_catch_a_build_that_skips_the_drain(
         tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation,
         two_arm_switches: list[tuple[str, str]], tmp_path: Path, composed: str) -> None:
-    ws = tmp_path_factory.mktemp("two_arm_ros2_undrained_ws")
-    gen(TWO_ARM, ws)
-    ws = build(jazzy, ws, "-DEARL_SWITCH_DRAIN=0")
+    ws = undrained_built(jazzy, tmp_path_factory.mktemp("two_arm_ros2_undrained_ws"))
     timeouts = switch_timeouts_ms(ws)
     runs = catch_runs(TWO_ARM_CAMPAIGNS[composed])
     caught = None

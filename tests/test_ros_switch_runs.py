@@ -91,6 +91,12 @@ def workspace(folder: Path, model: Path, *flags: str) -> Path:
     return catkin_make(folder, *flags)
 
 
+def undrained_built(folder: Path) -> Path:
+    """two_arm built with the drain skipped (test-only), the known-bad variant of its campaign
+    (built once per content: tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    return workspace(folder, TWO_ARM, "-DCMAKE_CXX_FLAGS=-DEARL_SWITCH_DRAIN=0")
+
+
 @pytest.fixture(scope="module")
 def two_arm(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return workspace(tmp_path_factory.mktemp("two_arm_ws"), TWO_ARM)
@@ -212,8 +218,7 @@ def test_two_arm_launches_under_load_hand_every_command_over(
 def test_two_arm_checks_catch_a_build_that_skips_the_drain(
         tmp_path_factory: pytest.TempPathFactory, core: tuple[Path, int, xmlrpc.client.ServerProxy],
         two_arm_switches: list[tuple[str, str]]) -> None:
-    ws = workspace(tmp_path_factory.mktemp("two_arm_undrained_ws"), TWO_ARM,
-                   "-DCMAKE_CXX_FLAGS=-DEARL_SWITCH_DRAIN=0")
+    ws = undrained_built(tmp_path_factory.mktemp("two_arm_undrained_ws"))
     timeouts = switch_timeouts_ms(ws)
     caught = None
     with cpu_hogs():
