@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import signal
 from pathlib import Path
 from types import ModuleType
 
@@ -19,6 +20,13 @@ from tests.support.paths import ROOT, SAMPLE
 
 def pytest_configure(config: pytest.Config) -> None:
     compiler_cache.enable(os.environ)
+    # A run started in the background of a non-interactive shell (`./dev test &`, many CI
+    # runners) ignores SIGINT, and every program a test starts inherits that: the graceful stop
+    # of tests/support/load.py (SIGINT, then SIGKILL after 5 s) would wait out its 5 s on each
+    # run of a program that does not catch SIGINT itself (a generated C++ system). The handler
+    # set here is reset to the default in every program started.
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.hookimpl(tryfirst=True)
