@@ -233,7 +233,8 @@ def test_the_harmoniser_sample_proves_its_switches_lossless_and_its_property(
     result = json.loads(capsys.readouterr().out)
 
     assert code == 0 and result["findings"] == [] and result["not_proven"] == []
-    assert result["processes"] == ["tha/a.cs", "guide/a.cs", "fallHelp/a.cs"]
+    # tiago/a.cs sends the status every leaving agent must take before it stops
+    assert result["processes"] == ["tiago/a.cs", "tha/a.cs", "guide/a.cs", "fallHelp/a.cs"]
     assert all(any(line.startswith(text) for line in result["proven"]) for text in HARMONISER_PROVEN), result
     assert f"{stopped_in_waiting} holds" in result["proven"]
 
@@ -255,3 +256,44 @@ def test_names_never_reach_the_promela_printf_strings(tmp_path: Path, capsys: py
     (finding,) = result["findings"]
     whys = [step["by"] for step in finding["trace"]]
     assert whys[-1] == 'the switch useA → use "B" 100%d is done: manipB/a resumes', whys
+
+
+# the manipulators run on their period: idle (quiescent) holds without reading command/ib and is
+# left for moving, which reads it, unless leaving(); a switch that finds a command queued while a
+# manipulator is in idle waits for it in vain
+PERIODIC_IDLE = [
+    ('            metadata commands : Group { obligatory = "command/ib"; optional = ""; }\n',
+     "            action def 'hold/pf' { out 'status/ob'; language \"C++\" /* // Holds. */ }\n"),
+    ('''                    @Activation { bufferGroup = "commands"; nextTimeout = 0.01; }
+                    do action 'idle/bb' {
+                        first start;
+                        then action follow : 'follow/pf';
+                        then done;
+                        constraint tc { language "EARL" /* newCommand/pp and not leaving() */ }''',
+     '''                    do action 'idle/bb' {
+                        first start;
+                        then action hold : 'hold/pf';
+                        then done;
+                        constraint tc { language "EARL" /* not leaving() */ }'''),
+    ('''                    @Activation { bufferGroup = "commands"; nextTimeout = 0.01; }
+                    do action 'moving/bb' {''', "                    do action 'moving/bb' {"),
+    ('constraint tc { language "EARL" /* leaving() or not newCommand/pp */ }',
+     'constraint tc { language "EARL" /* leaving() */ }'),
+    ('first idle then moving {\n                    language "EARL" /* newCommand/pp and not leaving() */',
+     'first idle then moving {\n                    language "EARL" /* not leaving() */'),
+    ('first moving then idle {\n                    language "EARL" /* leaving() or not newCommand/pp */',
+     'first moving then idle {\n                    language "EARL" /* leaving() */'),
+]
+
+
+def test_a_queue_a_quiescent_state_never_reads_is_a_switch_that_loses_values(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A state receives what its behaviour reads (earl_m2t.analysis.receiving), as the generated
+    code does: a quiescent state of a periodic subsystem does not take every input, and a queued
+    input of a leaving agent is counted although no state waits for it."""
+    path = _variant(tmp_path, PERIODIC_IDLE)
+    code = main(["verify", str(path), "--format", "json"])
+    result = json.loads(capsys.readouterr().out)
+    assert code == 1 and {f["code"] for f in result["findings"]} == {"V006"}, result
+    assert any("stuck in manipA/a.cs@idle" in step["by"] for f in result["findings"] for step in f["trace"]), result

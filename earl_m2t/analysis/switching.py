@@ -1,7 +1,8 @@
 """What the rules of variable structure (family X) compute from the lifted model: which
-configurations can hold while a state is current, which agents a switch can remove, whether a
-state receives an input, the drain bound of a queued input, and the structure a configuration
-induces as a model of its own (the structural rules are run on it).
+configurations can hold while a state is current, which agents a switch can remove, the drain
+bound of a queued input, and the structure a configuration induces as a model of its own (the
+structural rules are run on it). Whether a state receives an input is
+earl_m2t.analysis.receiving's.
 
 Functions of the lifted model only; nothing here reads XML or condition text.
 """
@@ -12,6 +13,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
+from earl_m2t.analysis.receiving import receives
 from earl_m2t.model.elements import Agent, Buffer, Configuration, EarlModel, Link, State, Subsystem, System
 from earl_m2t.model.graph import unreachable_states
 from earl_m2t.model.kinds import ReceiveMode
@@ -85,20 +87,6 @@ def leaving_agents(system: System) -> tuple[Agent, ...]:
 def names_buffer(names: Iterable[str], buffer: Buffer) -> bool:
     """True when a list of Input Buffer names (a group's, as written) names ``buffer``."""
     return bool({buffer.name, buffer.template} & set(names))
-
-
-def receives(sub: Subsystem, state: State, buffer: Buffer) -> bool:
-    """True when an iteration in ``state`` takes values from the Input Buffer ``buffer``: the
-    state has no buffer group (every input is read when present), its group names the buffer
-    (obligatory or optional), or a pf of its behaviour reads it."""
-    group = next((g for g in sub.buffer_groups if g.name == state.activation.group), None)
-    if not state.activation.group or group is None:
-        return True
-    if names_buffer(group.obligatory + group.optional, buffer):
-        return True
-    behaviour = sub.behaviour(state.behaviours[0]) if len(state.behaviours) == 1 else None
-    functions = (sub.function(name) for name in behaviour.functions) if behaviour is not None else ()
-    return any(buffer.path in f.reads for f in functions if f is not None)
 
 
 def waits_without_bound(state: State) -> bool:
@@ -204,7 +192,6 @@ __all__ = [
     "queued_inputs",
     "reachable_configurations",
     "reachable_states",
-    "receives",
     "system_of",
     "waits_without_bound",
 ]

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
+from earl_m2t.analysis.receiving import state_inputs
+from earl_m2t.analysis.switching import fed_inputs, leaving_agents
 from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import Buffer, EarlModel, Link, State, Subsystem
 from earl_m2t.predicate import BuiltInPredicate
@@ -159,25 +161,36 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
 
 
 def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None) -> dict[str, TrackedBuffer]:
-    """The Input Buffers some state waits for without a timeout, counted (per link when a
-    variable link delivers to them)."""
+    """The Input Buffers some state waits for without a timeout, and in a variable structure
+    every linked input of an agent a switch can remove (what a switch must drain), counted (per
+    link when a variable link delivers to them)."""
     tracked: dict[str, TrackedBuffer] = {}
     counters = 0
+
+    def track(buf: Buffer) -> None:
+        nonlocal counters
+        if buf.path in tracked:
+            return
+        capacity = max(buf.queue_size, 1) if buf.receive == "queue" else 1
+        incoming = [link for link in model.links if link.target == buf.path] if rc else []
+        if rc is not None and any(link.path in rc.varying for link in incoming):
+            links = tuple(CountedLink(link, f"q{counters + n}", rc.link_open(link)) for n, link in enumerate(incoming))
+            tracked[buf.path] = TrackedBuffer(buf, links[0].variable, capacity, links)
+            counters += len(links)
+        else:
+            tracked[buf.path] = TrackedBuffer(buf, f"q{counters}", capacity)
+            counters += 1
+
     for sub in model.subsystems:
         for state in sub.fsm.states if sub.fsm else ():
             for buf in waits_forever(sub, state):
-                if buf.path not in tracked:
-                    capacity = max(buf.queue_size, 1) if buf.receive == "queue" else 1
-                    incoming = [link for link in model.links if link.target == buf.path] if rc else []
-                    if rc is not None and any(link.path in rc.varying for link in incoming):
-                        links = tuple(CountedLink(link, f"q{counters + n}", rc.link_open(link))
-                                      for n, link in enumerate(incoming))
-                        tracked[buf.path] = TrackedBuffer(buf, links[0].variable, capacity, links)
-                        counters += len(links)
-                    else:
-                        tracked[buf.path] = TrackedBuffer(buf, f"q{counters}", capacity)
-                        counters += 1
+                track(buf)
                 spec.waits = True
+    if rc is not None:
+        fed = fed_inputs(model)
+        for agent in leaving_agents(rc.system):
+            for buf in (b for sub in agent.subsystems for b in sub.inputs if b.path in fed):
+                track(buf)
     spec.tracked = list(tracked.values())
     return tracked
 
@@ -312,12 +325,8 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
 
 
 def _received(sub: Subsystem, state: State, tracked: dict[str, TrackedBuffer]) -> list[TrackedBuffer]:
-    """Tracked inputs an iteration in ``state`` receives: those of its buffer group."""
-    group = next((g for g in sub.buffer_groups if g.name == state.activation.group), None)
-    if group is None:
-        return [tracked[b.path] for b in sub.inputs if b.path in tracked]
-    names = set(group.obligatory) | set(group.optional)
-    return [tracked[b.path] for b in sub.inputs if b.path in tracked and (b.name in names or b.template in names)]
+    """Tracked inputs an iteration in ``state`` receives (earl_m2t.analysis.receiving)."""
+    return [tracked[b.path] for b in state_inputs(sub, state) if b.path in tracked]
 
 
 def _sent(sub: Subsystem, state: State, tracked: dict[str, TrackedBuffer],

@@ -24,6 +24,7 @@ FIXTURE = ROOT / "tests" / "fixtures" / "variability" / "handover.sysml"
 
 USE_A = 'metadata useA : Structure { agents = "manipA/a"; links = "task/a,manipA/a manipA/a,task/a"; '
 USE_B = 'metadata useB : Structure { agents = "manipB/a"; links = "task/a,manipB/a manipB/a,task/a"; '
+STOPS = '@Activation { bufferGroup = "stops"; firstTimeout = 0.01; nextTimeout = 0.01; }'
 TASK_FSM_END = '''                transition 'withB,withA/t' first withB then withA {
                     language "EARL" /* handOver/pp */
                 }
@@ -167,8 +168,9 @@ def obligatory_input_closed(text: str) -> Broken:
 
 
 def queue_not_drained(text: str) -> Broken:
-    """X008: the manipulators' moving state waits for a new input stop/ib instead of command/ib and
-    its behaviour calls a pf that does not read command/ib; moving is not quiescent."""
+    """X008: the manipulators' moving state waits for a new input stop/ib instead of command/ib, its
+    behaviour calls a pf that does not read command/ib and its conditions do not read it; moving is
+    not quiescent."""
     text = _edit(text, "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
                        "            metadata commands",
                  "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
@@ -179,16 +181,60 @@ def queue_not_drained(text: str) -> Broken:
                  '            metadata stops : Group { obligatory = "stop/ib"; optional = ""; }\n'
                  "            action def 'hold/pf' { out 'status/ob'; language \"C++\" /* // Holds. */ }\n"
                  "            metadata commands")
+    return Broken(_moving_holds(text, STOPS), frozenset({"X008"}),
+                  "does not receive its queued input manipA/a.cs.command/ib")
+
+
+def _moving_holds(text: str, activation: str) -> str:
+    """The manipulators' moving state with ``activation``, running hold/pf, left on leaving() only:
+    nothing in it reads command/ib."""
     text = _edit(text, '''                state moving {
                     @Activation { bufferGroup = "commands"; nextTimeout = 0.01; }
                     do action 'moving/bb' {
                         first start;
-                        then action follow : 'follow/pf';''', '''                state moving {
-                    @Activation { bufferGroup = "stops"; firstTimeout = 0.01; nextTimeout = 0.01; }
-                    do action 'moving/bb' {
+                        then action follow : 'follow/pf';
+                        then done;
+                        constraint tc { language "EARL" /* leaving() or not newCommand/pp */ }''',
+                 f'''                state moving {{
+                    {activation}
+                    do action 'moving/bb' {{
                         first start;
-                        then action hold : 'hold/pf';''')
-    return Broken(text, frozenset({"X008"}), "does not receive its queued input manipA/a.cs.command/ib")
+                        then action hold : 'hold/pf';
+                        then done;
+                        constraint tc {{ language "EARL" /* leaving() */ }}''')
+    return _edit(text, "/* leaving() or not newCommand/pp */\n                }\n            }",
+                 "/* leaving() */\n                }\n            }")
+
+
+def queue_optional_not_drained(text: str) -> Broken:
+    """X008: as X008, but moving's group names command/ib optional: an optional input the behaviour
+    never reads is not received (earl_m2t.analysis.receiving), so the queue waits there."""
+    text = _edit(text, "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
+                       "            metadata commands",
+                 "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
+                 "            port 'stop/ib' : InputBuffer {\n"
+                 "                attribute :>> msg : DataTypes::Status;\n"
+                 "                comment /* earl-m2t: ignore[C007] wired by the cell's integrator */\n"
+                 "            }\n"
+                 '            metadata stops : Group { obligatory = "stop/ib"; optional = "command/ib"; }\n'
+                 "            action def 'hold/pf' { out 'status/ob'; language \"C++\" /* // Holds. */ }\n"
+                 "            metadata commands")
+    return Broken(_moving_holds(text, STOPS), frozenset({"X008"}),
+                  "does not receive its queued input manipA/a.cs.command/ib")
+
+
+def queue_not_drained_periodic(text: str) -> Broken:
+    """X008: the manipulators run on their period (no buffer groups) and moving's behaviour reads
+    nothing of command/ib: a state without a group receives what its behaviour reads, not every
+    input."""
+    text = _edit(text, "            metadata commands",
+                 "            action def 'hold/pf' { out 'status/ob'; language \"C++\" /* // Holds. */ }\n"
+                 "            metadata commands")
+    text = _edit(text, '            metadata commands : Group { obligatory = "command/ib"; optional = ""; }\n', "")
+    text = _edit(text, '                    @Activation { bufferGroup = "commands"; nextTimeout = 0.01; }\n'
+                       "                    do action 'idle/bb'", "                    do action 'idle/bb'")
+    return Broken(_moving_holds(text, "// on the subsystem's period"), frozenset({"X008"}),
+                  "does not receive its queued input manipA/a.cs.command/ib")
 
 
 def switch_timeout_short(text: str) -> Broken:
@@ -360,6 +406,8 @@ VARIABILITY_VARIANTS: dict[str, Callable[[str], Broken]] = {
     "X006-unnamed": optional_agent_unnamed,
     "X007": obligatory_input_closed,
     "X008": queue_not_drained,
+    "X008-optional": queue_optional_not_drained,
+    "X008-periodic": queue_not_drained_periodic,
     "X009": switch_timeout_short,
     "X010": unreachable_configuration,
     "X010-duplicate": duplicate_configuration,

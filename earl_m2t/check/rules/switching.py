@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
+from earl_m2t.analysis.receiving import receives
 from earl_m2t.analysis.switching import (
     configurations_while,
     drain_bound,
@@ -14,7 +15,6 @@ from earl_m2t.analysis.switching import (
     obligatory_inputs,
     queued_inputs,
     reachable_states,
-    receives,
     waits_without_bound,
 )
 from earl_m2t.check.rule import Finding, rule

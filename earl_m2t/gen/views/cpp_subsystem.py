@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from earl_m2t.analysis.receiving import behaviour_inputs
 from earl_m2t.gen.cpp_expr import ExprCompiler, Storage, Symbols
 from earl_m2t.gen.errors import GenError
 from earl_m2t.gen.names import Scope, cpp_comment, cpp_identifier, cpp_string
@@ -19,7 +20,6 @@ from earl_m2t.model.conditions import Condition
 from earl_m2t.model.elements import Activation, BasicBehaviour, Buffer, EarlModel, State, Subsystem
 from earl_m2t.model.limits import MAX_SECONDS
 from earl_m2t.model.naming import stem
-from earl_m2t.predicate import Expr, FieldRef, NewData, PredicateRef, walk
 
 Data = dict[str, Any]
 
@@ -79,7 +79,6 @@ class _SubsystemView:
         self.memories: dict[str, Data] = {}  # memory stem -> memory data
         self.paths = {b.path: b for b in sub.buffers}
         self.mem_paths = {m.path: m for m in sub.memory}
-        self.parsed: dict[str, Expr] = {}  # the expanded condition of each element compiled, by its name in errors
         self.compiler: ExprCompiler | None = None
 
     def build(self) -> Data:
@@ -102,8 +101,7 @@ class _SubsystemView:
             state_rows.append({"name": cpp_string(state.name), "behaviour": bb_index[state.behaviours[0]],
                                "trace": state.path})
         groups, activations = activation_rows(sub, self.ports, self.scope)
-        transitions = self._transitions(state_index, behaviours, bb_index)
-        self._receives(behaviours)
+        transitions = self._transitions(state_index)
         ns, user_dir = self.types.ns, self.user_dir
         return {
             "trace": sub.path, "ns": self.namespace, "agent": self.agent_ns, "sub": self.sub_ns, "path": sub.path,
@@ -272,10 +270,7 @@ class _SubsystemView:
         if condition is None:
             return "true" if default else "false"
         assert self.compiler is not None
-        compiled = self.compiler.compile(condition, what)
-        assert condition.expanded is not None
-        self.parsed[what] = condition.expanded
-        return compiled
+        return self.compiler.compile(condition, what)
 
     def _behaviours(self, pf_ids: dict[str, Data]) -> tuple[list[Data], dict[str, int]]:
         behaviours: list[Data] = []
@@ -296,7 +291,6 @@ class _SubsystemView:
             stages.append({"name": scope.take(f"stage_{bb_id}_{n}"), "runs": [pf_ids[p]["run"] for p in stage]})
         used = [f for f in (sub.function(p) for p in bb.functions) if f is not None]
         writes = {t for f in used for t in f.writes}
-        reads = {t for f in used for t in f.reads}
         tc = self._compile(bb.tc, False, f"{bb.path} tc")
         ec = self._compile(bb.ec, False, f"{bb.path} ec")
         return {
@@ -308,11 +302,10 @@ class _SubsystemView:
             "tc_text": cpp_comment(bb.tc.text if bb.tc else "none: never terminates"),
             "ec_text": cpp_comment(bb.ec.text if bb.ec else "none"),
             "sends": _port_list(self.ports, [paths[p] for p in paths if p in writes and paths[p].direction == "out"]),
-            "receive_paths": {p for p in reads if p in paths and paths[p].direction == "in"},
-            "conditions": [f"{bb.path} tc", f"{bb.path} ec"],
+            "receives": _port_list(self.ports, list(behaviour_inputs(sub, bb))),
         }
 
-    def _transitions(self, state_index: dict[str, int], behaviours: list[Data], bb_index: dict[str, int]) -> list[Data]:
+    def _transitions(self, state_index: dict[str, int]) -> list[Data]:
         fsm = self.sub.fsm
         assert fsm is not None
         transitions = []
@@ -325,43 +318,7 @@ class _SubsystemView:
                                 "source": state_index[tr.source],
                                 "target": state_index[tr.target], "priority": tr.priority, "guard": guard,
                                 "expr": expr, "text": cpp_comment(tr.condition.text if tr.condition else "none")})
-            behaviours[bb_index[fsm.states[state_index[tr.source]].behaviours[0]]]["conditions"].append(tr.path)
         return transitions
-
-    def _receives(self, behaviours: list[Data]) -> None:
-        """The inputs each behaviour receives: those its pf read, and those its own conditions
-        (tc, ec, and the guards leaving its states) read, so they can see new data."""
-        sub = self.sub
-        by_name = {b.name: b for b in sub.buffers}
-        for row in behaviours:
-            received = set(row.pop("receive_paths"))
-            for what in row.pop("conditions"):
-                if what in self.parsed:
-                    received |= {by_name[name].path for name in self._inputs_of(self.parsed[what])
-                                 if name in by_name and by_name[name].direction == "in"}
-            row["receives"] = _port_list(self.ports, [b for b in sub.inputs if b.path in received])
-
-    def _inputs_of(self, expanded: Expr, seen: frozenset[str] = frozenset()) -> set[str]:
-        """Buffer names an expanded condition reads, through the primitive predicates it calls."""
-        sub = self.sub
-        assert sub.scope is not None
-        names: set[str] = set()
-        for node in walk(expanded):
-            if isinstance(node, FieldRef):
-                names.add(node.head)
-            elif isinstance(node, NewData):
-                names.add(node.ref.head)
-            elif isinstance(node, PredicateRef):
-                pp_name = sub.scope.predicate(node.name)
-                if pp_name is None:
-                    names.add(node.name)
-                elif pp_name not in seen:
-                    pp = sub.predicate(pp_name)
-                    if pp is not None and pp.fun is not None and pp.path in self.parsed:
-                        names |= self._inputs_of(self.parsed[pp.path], seen | {pp_name})
-                    elif pp is not None and pp.fun is None:
-                        names |= {b.name for b in sub.inputs}  # user code may read any input
-        return names
 
 
 def activation_rows(sub: Subsystem, ports: dict[str, Data], scope: Scope) -> tuple[list[Data], list[Data]]:
