@@ -9,7 +9,9 @@ could not deliver.
 * threaded, with one busy process per CPU: 50 runs, every one passes the checks below;
 * 0 heap allocations per cycle, switches included, stepped and threaded;
 * sensitivity control: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``, test-only)
-  fails the checks in at least one of 50 threaded runs.
+  fails the checks in at least one of 50 threaded runs;
+* forced switches (``switchTimeout = 0.001``): every command is taken or named undelivered at a
+  switch, including the one a manipulator had taken and not yet run its pfs on.
 
 The checks: every numbered command is taken exactly once, by the arm of the configuration it
 was sent in; no value is undelivered at a switch and no queue overflows; 20 switches, each
@@ -22,6 +24,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -39,6 +42,7 @@ SWITCHES = TwoArm.SWITCHES
 TIMEOUT_MS = TwoArm.TIMEOUT_MS
 CYCLES = 6000
 CAMPAIGN = "cpp two_arm"  # tests/support/campaigns.toml
+FORCED_CAMPAIGN = "cpp two_arm forced"
 LOADED_RUNS = loaded_runs(CAMPAIGN)
 RUN_TIMEOUT = 10.0  # s per threaded run: the sample needs about 0.25 s
 
@@ -64,6 +68,31 @@ def drained(generated: Path) -> Path:
 @pytest.fixture(scope="module")
 def undrained(generated: Path) -> Path:
     return build(generated, "-DEARL_SWITCH_DRAIN=0")
+
+
+@pytest.fixture(scope="module")
+def forced_generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The sample with switchTimeout = 0.001 (1 ms, one coordinator cycle), generated."""
+    folder = tmp_path_factory.mktemp("two_arm_forced")
+    model = folder / "two_arm.sysml"
+    text = (SAMPLE.parent / "two_arm.sysml").read_text(encoding="utf-8")
+    assert text.count("switchTimeout = 0.1;") == 2
+    model.write_text(text.replace("switchTimeout = 0.1;", "switchTimeout = 0.001;"), encoding="utf-8")
+    out = folder / "out"
+    shutil.copytree(USER, out / "user")
+    # --force: rule X009 says what the test wants, a timeout below the drain bound
+    run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "cpp", "-o", out, "--force")
+    return out
+
+
+@pytest.fixture(scope="module")
+def forced(forced_generated: Path) -> Path:
+    return build(forced_generated)
+
+
+@pytest.fixture(scope="module")
+def unsettled(forced_generated: Path) -> Path:
+    return build(forced_generated, "-DEARL_SWITCH_SETTLE=0")
 
 
 problems = TwoArm.problems
@@ -105,6 +134,41 @@ def test_the_checks_catch_a_switch_that_skips_the_drain(undrained: Path) -> None
     with cpu_hogs():
         caught = next((attempt for attempt in range(catch_runs(CAMPAIGN)) if problems(threaded_run(undrained))), None)
     assert caught is not None, f"all {catch_runs(CAMPAIGN)} runs of the drain-skipping build passed the checks"
+
+
+def test_a_forced_switch_names_every_command_it_loses(forced: Path) -> None:
+    """Deterministic: every switch is forced (its timeout is one cycle), and each one finds the
+    command the leaving arm took in its last iteration and had not yet run its pfs on."""
+    lines = run(forced, "--cycles", str(CYCLES)).splitlines()
+    assert TwoArm.unreconciled(lines) == []
+    assert sum(1 for m in map(SWITCH.match, lines) if m and m.group(5)) == SWITCHES
+    assert any(TwoArm.NAMED.match(line) for line in lines)
+
+
+@pytest.mark.loaded
+def test_threaded_forced_switches_under_load_name_every_command_they_lose(forced: Path) -> None:
+    failures, forced_switches = [], 0
+    with cpu_hogs():
+        for attempt in range(loaded_runs(FORCED_CAMPAIGN)):
+            lines = threaded_run(forced)
+            forced_switches += sum(1 for m in map(SWITCH.match, lines) if m and m.group(5))
+            found = TwoArm.unreconciled(lines)
+            if found:
+                failures.append(f"run {attempt + 1}: {found}")
+    assert not failures, "\n".join(failures)
+    print(f"two_arm C++ threaded, switchTimeout 1 ms: {loaded_runs(FORCED_CAMPAIGN)} runs, "
+          f"{forced_switches} forced switches, every command taken or named")
+
+
+@pytest.mark.loaded
+def test_the_checks_catch_a_forced_switch_that_forgets_the_value_taken(unsettled: Path) -> None:
+    """The runtime of before: the value a leaving arm took in its last iteration is neither run
+    through its pfs nor counted."""
+    assert TwoArm.unreconciled(run(unsettled, "--cycles", str(CYCLES)).splitlines())
+    with cpu_hogs():
+        caught = next((attempt for attempt in range(catch_runs(FORCED_CAMPAIGN))
+                       if TwoArm.unreconciled(threaded_run(unsettled))), None)
+    assert caught is not None, f"all {catch_runs(FORCED_CAMPAIGN)} runs of the forgetting build passed the checks"
 
 
 def test_no_heap_allocation_per_cycle_switches_included(generated: Path) -> None:

@@ -72,6 +72,7 @@ class Task final : public earl::SwitchedSubsystem<Task> {
   bool never() const noexcept { return false; }
   bool always() const noexcept { return true; }
   void resetData(bool) noexcept {}
+  void settleData() noexcept { status.settle(); }
 
   static const earl::FsmTables<Task>& tables() noexcept {
     static const earl::Action<Task> stage[] = {&Task::supervise};
@@ -101,12 +102,20 @@ class Manip final : public earl::SwitchedSubsystem<Manip> {
 
   earl::SwitchedInputPort<Command, 1, kQueue> command;
   earl::OutputPort<Status, 1> status;
-  std::array<std::uint16_t, kMaxSeq> got{};  // times each seq was received
+  std::array<std::uint16_t, kMaxSeq> got{};  // times a pf ran on each seq (received for it)
   std::uint64_t received = 0, outOfOrder = 0, overlaps = 0, stale = 0, restarts = 0;
   std::uint64_t workIterations = 0;  // memory: kept by resume, reset by restart
 
   void report() noexcept {
     inside_.store(true, std::memory_order_seq_cst);
+    if (pending_) {  // the command the last iteration received: this pf runs on it
+      pending_ = false;
+      const std::uint64_t s = command.msg().seq;
+      if (s < kMaxSeq) ++got[s];
+      if (s <= last_) ++outOfOrder;
+      last_ = s;
+      ++received;
+    }
     if (other_.load(std::memory_order_seq_cst)) ++overlaps;  // both manipulators inside an iteration
     status.msg().who = who_;
     status.msg().seq = last_;
@@ -117,13 +126,7 @@ class Manip final : public earl::SwitchedSubsystem<Manip> {
   }
   void send() noexcept { status.send(); }
   void receiveCommand() noexcept {
-    if (command.receive()) {
-      const std::uint64_t s = command.msg().seq;
-      if (s < kMaxSeq) ++got[s];
-      if (s <= last_) ++outOfOrder;
-      last_ = s;
-      ++received;
-    }
+    if (command.receive()) pending_ = true;
     inside_.store(false, std::memory_order_seq_cst);
   }
   void receiveNothing() noexcept { inside_.store(false, std::memory_order_seq_cst); }
@@ -131,8 +134,10 @@ class Manip final : public earl::SwitchedSubsystem<Manip> {
   bool worked() const noexcept { return iteration() >= kWork || leaving(); }
   bool never() const noexcept { return false; }
   bool always() const noexcept { return true; }
+  void settleData() noexcept { command.settle(); }
   void resetData(bool restart) noexcept {
     command.reset(restart);
+    pending_ = false;  // dropped: the switch that stopped the agent counted it undelivered
     if (restart) {
       status.msg() = Status{};
       workIterations = 0;
@@ -164,6 +169,7 @@ class Manip final : public earl::SwitchedSubsystem<Manip> {
   const std::atomic<bool>& other_;
   std::atomic<bool>& inside_;
   std::uint64_t last_ = 0;
+  bool pending_ = false;  // the last receiveCommand() took a command, for the next iteration's pf
 };
 
 }  // namespace handover

@@ -56,6 +56,8 @@ class TwoArm:
     SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
     TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
     FINISHED = re.compile(r"^step \d+ task/a\.cs: with[AB] -> finished ")
+    NAMED = re.compile(r"^link (task/a,manip[AB]/a): seq (\d+) undelivered at switch$")
+    COUNTED = re.compile(r"^link (task/a,manip[AB]/a): (\d+) value\(s\) undelivered at switch$")
 
     @classmethod
     def problems(cls, lines: list[str]) -> list[str]:
@@ -84,6 +86,34 @@ class TwoArm:
             found.append(f"{len(matches)} switches")
         found += [f"{m.group(0)}: beyond {cls.TIMEOUT_MS} ms" for m in matches if float(m.group(3)) > cls.TIMEOUT_MS]
         found += undelivered(lines)
+        return found[:12]
+
+    @classmethod
+    def unreconciled(cls, lines: list[str]) -> list[str]:
+        """What a run with forced switches shows against "every command is taken or reported":
+        each numbered command sent is either taken once, by the arm it was sent to, or named
+        undelivered at a switch, on the link to that arm (``link task/a,manipA/a: seq 10
+        undelivered at switch``), never both, and the counts of the switches' reports add up
+        to the values they name. Empty when every command is accounted for."""
+        sent = {int(m.group(1)): m.group(2) for m in map(cls.SENT.match, lines) if m}
+        taken: dict[int, list[str]] = {}
+        for match in filter(None, map(cls.TOOK.match, lines)):
+            taken.setdefault(int(match.group(2)), []).append(match.group(1))
+        named: dict[int, list[str]] = {}
+        for match in filter(None, map(cls.NAMED.match, lines)):
+            named.setdefault(int(match.group(2)), []).append(match.group(1))
+        counted = sum(int(m.group(2)) for m in map(cls.COUNTED.match, lines) if m)
+        found: list[str] = []
+        if sorted(sent) != list(range(1, cls.COMMANDS + 1)):
+            found.append(f"{len(sent)} numbered commands sent, not 1..{cls.COMMANDS}")
+        for seq, arm in sorted(sent.items()):
+            fates = ([f"taken by {a}" for a in taken.get(seq, [])]
+                     + [f"reported on {link}" for link in named.get(seq, [])])
+            if fates not in ([f"taken by {arm}"], [f"reported on task/a,{arm}"]):
+                found.append(f"seq {seq} sent to {arm}: {', '.join(fates) or 'lost, neither taken nor reported'}")
+        if counted != sum(len(links) for links in named.values()):
+            found.append(f"the switches counted {counted} undelivered values and named "
+                         f"{sum(len(links) for links in named.values())}")
         return found[:12]
 
     @classmethod

@@ -42,6 +42,12 @@
 #ifndef EARL_SWITCH_DRAIN
 #define EARL_SWITCH_DRAIN 1
 #endif
+// Test-only: 0 builds a switch that forgets the value an Input Buffer took in a leaving agent's
+// last iteration (the agent may stop before its pfs run on it, and a forced switch does not count
+// it): the tests use it to show that they detect a value lost uncounted.
+#ifndef EARL_SWITCH_SETTLE
+#define EARL_SWITCH_SETTLE 1
+#endif
 
 namespace earl {
 
@@ -81,6 +87,26 @@ struct ChannelValue<QueueChannel<T, N>> {
   using type = T;
 };
 
+/// Whether a value type has an integral field ``seq`` (its number, by the convention of the
+/// samples' commands): a value a switch loses is then named by it.
+template <class T, class = void>
+struct HasSeq : std::false_type {};
+template <class T>
+struct HasSeq<T, std::void_t<decltype(std::declval<const T&>().seq)>>
+    : std::is_integral<std::decay_t<decltype(std::declval<const T&>().seq)>> {};
+template <class T>
+std::int64_t seqOf(const T& value) noexcept {
+  if constexpr (HasSeq<T>::value) {
+    return static_cast<std::int64_t>(value.seq);
+  } else {
+    (void)value;
+    return -1;
+  }
+}
+
+/// Told each value a switch lost (its seq, -1 for a type without one); ``context`` is the caller's.
+using LostValue = void (*)(void* context, std::int64_t seq) noexcept;
+
 /// A link that a configuration can close: the channel (a Channel or a QueueChannel, so that
 /// an InputPort connects to it as to any link) behind a Gate. OutputPort::connect() takes it
 /// as its sink, so every send() passes the gate.
@@ -100,17 +126,37 @@ class VariableLink : public Ch {
   Gate& gate() noexcept { return gate_; }
   const Gate& gate() const noexcept { return gate_; }
 
+  /// The receiver took a value of this link that its pfs have not run on yet: it is in the
+  /// Input Buffer, read at the end of the receiver's last iteration, for its next one. Set and
+  /// cleared by the receiving port (SwitchedInputPort::receive()), in the receiver's thread.
+  bool held() const noexcept { return held_.load(std::memory_order_relaxed); }
+  void hold(bool value, std::int64_t seq = -1) noexcept {
+    heldSeq_ = seq;
+    held_.store(value, std::memory_order_relaxed);
+  }
+
   /// The consumer's side, only while the receiver does not run: empties the link and returns
-  /// the values it held (a latest-value link holds at most one).
-  std::uint64_t discard() noexcept {
-    value_type dropped{};
+  /// the values it lost: the one its receiver had taken but not processed, and those the link
+  /// held (a latest-value link holds at most one); ``each`` (when given) is told each of them.
+  std::uint64_t discard(LostValue each = nullptr, void* context = nullptr) noexcept {
     std::uint64_t n = 0;
-    while (Ch::read(dropped)) ++n;
+    if (held()) {
+      ++n;
+      if (each != nullptr) each(context, heldSeq_);
+    }
+    hold(false);
+    value_type dropped{};
+    while (Ch::read(dropped)) {
+      ++n;
+      if (each != nullptr) each(context, seqOf(dropped));
+    }
     return n;
   }
 
  private:
   Gate gate_;
+  std::atomic<bool> held_{false};
+  std::int64_t heldSeq_ = -1;  // written before held_, by the receiver; read once it is parked
 };
 
 /// An Input Buffer of a model with configurations: InputPort's semantics, except that links
@@ -123,9 +169,9 @@ class SwitchedInputPort {
   using channel_type = std::conditional_t<Queue == 0, Channel<T>, QueueChannel<T, (Queue == 0 ? 1 : Queue)>>;
 
   /// A link present in every configuration; at initialisation only.
-  bool connect(channel_type& channel) noexcept { return add(channel, nullptr); }
+  bool connect(channel_type& channel) noexcept { return add(channel, nullptr, nullptr); }
   /// A variable link; at initialisation only.
-  bool connect(VariableLink<channel_type>& link) noexcept { return add(link, &link.gate()); }
+  bool connect(VariableLink<channel_type>& link) noexcept { return add(link, &link.gate(), &link); }
   /// The wake word of the component owning this port (InputPort::setWake()).
   void setWake(Wake& wake, std::uint64_t input = Wake::kAnyInput) noexcept {
     wake_ = &wake;
@@ -135,12 +181,14 @@ class SwitchedInputPort {
 
   bool receive() noexcept {
     bool fresh = false;
+    std::size_t from = 0;
     for (int pass = 0; pass < 2; ++pass) {
       const bool closed = pass == 0;
       for (std::size_t i = 0; i < count_; ++i) {
         if ((gates_[i] != nullptr && !gates_[i]->isOpen()) != closed) continue;
         if (links_[i]->read(msg_)) {
           fresh = true;
+          from = i;
           if constexpr (Queue != 0) {
             pass = 2;
             break;
@@ -149,7 +197,14 @@ class SwitchedInputPort {
       }
     }
     newData_ = fresh;
-    if (fresh) ++received_;
+    if (fresh) {
+      ++received_;
+#if EARL_SWITCH_SETTLE
+      if (variable_[from] != nullptr) variable_[from]->hold(true, seqOf(msg_));  // msg() holds its value
+#else
+      (void)from;
+#endif
+    }
     return fresh;
   }
 
@@ -173,10 +228,20 @@ class SwitchedInputPort {
     return lost;
   }
 
+  /// The pfs of an iteration ran on what the last receive() took (SwitchedSubsystem::iterate()).
+  void settle() noexcept {
+    for (std::size_t i = 0; i < count_; ++i) {
+      if (variable_[i] != nullptr) variable_[i]->hold(false);
+    }
+  }
+
   /// Reactivation: msg() back to its initial value (restart) or kept (resume); no new data.
   void reset(bool restart) noexcept {
     if (restart) msg_ = T{};
     newData_ = false;
+    for (std::size_t i = 0; i < count_; ++i) {
+      if (variable_[i] != nullptr) variable_[i]->hold(false);
+    }
   }
 
   const T& msg() const noexcept { return msg_; }
@@ -185,9 +250,10 @@ class SwitchedInputPort {
   std::size_t links() const noexcept { return count_; }
 
  private:
-  bool add(channel_type& channel, const Gate* gate) noexcept {
+  bool add(channel_type& channel, const Gate* gate, VariableLink<channel_type>* variable) noexcept {
     if (count_ == MaxLinks) return false;
     gates_[count_] = gate;
+    variable_[count_] = variable;
     links_[count_++] = &channel;
     channel.setReader(wake_, input_);
     return true;
@@ -199,6 +265,7 @@ class SwitchedInputPort {
   std::uint64_t reported_ = 0;
   std::array<channel_type*, MaxLinks> links_{};
   std::array<const Gate*, MaxLinks> gates_{};
+  std::array<VariableLink<channel_type>*, MaxLinks> variable_{};
   std::size_t count_ = 0;
   Wake* wake_ = nullptr;
   std::uint64_t input_ = Wake::kAnyInput;
@@ -229,8 +296,11 @@ class SwitchObserver : public Observer {
   virtual void switched(const char* from, const char* to, const SwitchLatency& latency) noexcept {
     (void)from, (void)to, (void)latency;
   }
-  /// ``count`` values queued on ``link`` were cleared at a switch (its timeout passed).
+  /// ``count`` values of ``link`` were cleared at a switch (its timeout passed): those queued,
+  /// and the one its receiver had taken and not yet processed.
   virtual void undelivered(const char* link, std::uint64_t count) noexcept { (void)link, (void)count; }
+  /// One of them, before the count: its seq (-1 when its type has no field seq).
+  virtual void undeliveredValue(const char* link, std::int64_t seq) noexcept { (void)link, (void)seq; }
 };
 
 /// PrintObserver's lines, and one line per switch (`` (forced)`` after it when its timeout
@@ -264,6 +334,9 @@ class SwitchPrintObserver final : public SwitchObserver {
   void undelivered(const char* link, std::uint64_t count) noexcept override {
     std::printf("link %s: %" PRIu64 " value(s) undelivered at switch\n", link, count);
   }
+  void undeliveredValue(const char* link, std::int64_t seq) noexcept override {
+    if (seq >= 0) std::printf("link %s: seq %" PRId64 " undelivered at switch\n", link, seq);
+  }
 
  private:
   PrintObserver lines_;
@@ -286,6 +359,9 @@ class SwitchControl {
   virtual bool poll() noexcept = 0;
   /// Every closed link into ``agent`` is empty and no write to it is in flight.
   virtual bool drained(const AgentSlot& agent) const noexcept = 0;
+  /// No value of a closed link into ``agent`` waits in an Input Buffer for the pfs of the
+  /// agent's next iteration (taken by the last one): the agent may stop without losing it.
+  virtual bool settled(const AgentSlot& agent) const noexcept = 0;
   /// The coordinator (its period sets the polling interval); set by SwitchedSubsystem.
   virtual void setCoordinator(const Component* coordinator) noexcept { (void)coordinator; }
 
@@ -393,14 +469,18 @@ struct SwitchLink {
   AgentSlot* receiver;
   void* channel;
   bool (*fresh)(const void* channel) noexcept;
-  std::uint64_t (*discard)(void* channel) noexcept;
+  bool (*held)(const void* channel) noexcept;
+  std::uint64_t (*discard)(void* channel, LostValue each, void* context) noexcept;
 };
 
 template <class Ch>
 SwitchLink switchLink(const char* name, VariableLink<Ch>& link, AgentSlot* receiver) noexcept {
   return SwitchLink{name, &link.gate(), receiver, &link,
                     [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->fresh(); },
-                    [](void* c) noexcept { return static_cast<VariableLink<Ch>*>(c)->discard(); }};
+                    [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->held(); },
+                    [](void* c, LostValue each, void* context) noexcept {
+                      return static_cast<VariableLink<Ch>*>(c)->discard(each, context);
+                    }};
 }
 
 /// The configurations, as constant tables (generated): which variable agents and which
@@ -495,7 +575,8 @@ class Switch final : public SwitchControl {
       const SwitchLink& link = links_[l];
       const std::size_t receiver = link.receiver != nullptr ? index(*link.receiver) : kNone;
       if (receiver == kNone || !leaves(receiver)) continue;
-      report(link.name, link.discard(link.channel));
+      Lost lost{observer_, link.name};
+      report(link.name, link.discard(link.channel, &Lost::each, &lost));
     }
     open();
     return true;
@@ -511,6 +592,14 @@ class Switch final : public SwitchControl {
     return true;
   }
 
+  bool settled(const AgentSlot& agent) const noexcept override {
+    for (std::size_t l = 0; l < tables_.linkCount; ++l) {
+      const SwitchLink& link = links_[l];
+      if (link.receiver == &agent && !link.gate->isOpen() && link.held(link.channel)) return false;
+    }
+    return true;
+  }
+
   /// Values cleared on ``link`` at this switch: counted and told to the observer.
   void report(const char* link, std::uint64_t count) noexcept {
     if (count == 0) return;
@@ -519,6 +608,16 @@ class Switch final : public SwitchControl {
   }
 
  private:
+  /// Tells the observer each value a forced switch clears on one link.
+  struct Lost {
+    SwitchObserver* observer;
+    const char* link;
+    static void each(void* context, std::int64_t seq) noexcept {
+      const Lost& lost = *static_cast<const Lost*>(context);
+      if (lost.observer != nullptr) lost.observer->undeliveredValue(lost.link, seq);
+    }
+  };
+
   bool hasAgent(std::size_t c, std::size_t a) const noexcept { return tables_.agents[c * tables_.agentCount + a]; }
   bool hasLink(std::size_t c, std::size_t l) const noexcept { return tables_.links[c * tables_.linkCount + l]; }
   bool leaves(std::size_t a) const noexcept { return hasAgent(current_, a) && !hasAgent(target_, a); }
@@ -592,14 +691,17 @@ class Switch final : public SwitchControl {
 /// The base of every generated subsystem of a model with configurations (CRTP): Subsystem's
 /// FSM and basic-behaviour loop (subsystem.hpp, same tables, same order of a step), plus
 ///   * membership of a variable agent: no iteration while the agent is stopped; the control
-///     subsystem stops its agent at an iteration boundary once leaving, quiescent and drained;
+///     subsystem stops its agent at an iteration boundary once leaving, quiescent, drained and
+///     settled (a value taken from a closed link in the last iteration has been through the
+///     pfs of one more: Self::settleData() after the pfs of every iteration says so);
 ///     while leaving and drained, an event-driven subsystem waits for its minimal period only,
 ///     not for its obligatory inputs (the links the switch closed bring nothing more);
 ///     on its first iteration after a reactivation, a subsystem restarts (FSM at its initial
 ///     state, Self::resetData(true)) or resumes (Self::resetData(false));
 ///   * the coordinator: a transition to a state naming another configuration starts a switch
 ///     instead of entering the state; the state is entered once the switch has opened.
-/// Self supplies the tables, the functions they point to and ``void resetData(bool restart)``.
+/// Self supplies the tables, the functions they point to, ``void resetData(bool restart)`` and
+/// ``void settleData()`` (SwitchedInputPort::settle() of each of its inputs).
 template <class Self>
 class SwitchedSubsystem : public Component, public Health {
  public:
@@ -753,7 +855,9 @@ class SwitchedSubsystem : public Component, public Health {
 
   bool mayStop() const noexcept {
 #if EARL_SWITCH_DRAIN
-    return quiescent() && agent_->switch_ != nullptr && agent_->switch_->drained(*agent_);
+    // a value taken in the last iteration is run through the pfs of one more before the stop
+    return quiescent() && agent_->switch_ != nullptr && agent_->switch_->drained(*agent_) &&
+           agent_->switch_->settled(*agent_);
 #else
     return true;
 #endif
@@ -818,6 +922,7 @@ class SwitchedSubsystem : public Component, public Health {
       const StageDef<Self>& stage = behaviour.stages[s];
       for (std::size_t f = 0; f < stage.count; ++f) run(stage.functions[f]);
     }
+    self.settleData();
     (self.*behaviour.send)();
     ++iteration_;
     entered_ = false;

@@ -104,6 +104,7 @@ class SwitchMember final : public SwitchControl {
     if (link >= Links) return;
     receivers_[link] = Receiver{&channel.gate(), &channel,
                                 [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->fresh(); },
+                                [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->held(); },
                                 [](void* c) noexcept { return static_cast<VariableLink<Ch>*>(c)->discard(); }};
   }
 
@@ -206,6 +207,15 @@ class SwitchMember final : public SwitchControl {
     (void)agent;
     return command_.seq == seq_ && command_.round >= SwitchRound::stop && arrivedAll(true);
   }
+  /// No value of this node's closed links waits in an Input Buffer for the next iteration's pfs.
+  bool settled(const AgentSlot& agent) const noexcept override {
+    (void)agent;
+    for (std::size_t l = 0; l < Links; ++l) {
+      const Receiver& r = receivers_[l];
+      if (r.channel != nullptr && closes(l) && r.held(r.channel)) return false;
+    }
+    return true;
+  }
   bool begin(std::size_t) noexcept override { return false; }
   bool poll() noexcept override { return true; }
 
@@ -217,6 +227,7 @@ class SwitchMember final : public SwitchControl {
     Gate* gate = nullptr;
     void* channel = nullptr;
     bool (*fresh)(const void*) noexcept = nullptr;
+    bool (*held)(const void*) noexcept = nullptr;
     std::uint64_t (*discard)(void*) noexcept = nullptr;
   };
 
@@ -419,6 +430,10 @@ class SwitchCoordinator final : public SwitchControl {
   /// The coordinator's node is a member too, but drains nothing here: its agent is never
   /// variable (rule X003).
   bool drained(const AgentSlot& agent) const noexcept override {
+    (void)agent;
+    return true;
+  }
+  bool settled(const AgentSlot& agent) const noexcept override {
     (void)agent;
     return true;
   }
