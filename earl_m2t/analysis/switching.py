@@ -84,6 +84,34 @@ def leaving_agents(system: System) -> tuple[Agent, ...]:
                  if a.path in named and not all(a.path in c.agents for c in system.configurations))
 
 
+def silent_outputs(model: EarlModel, definition: Subsystem, behaviour: str) -> frozenset[str]:
+    """The Output Buffers (by template) of ``definition`` whose every link is closed wherever its
+    basic behaviour ``behaviour`` runs: in each instance, in every configuration that can hold
+    while a reachable state running it is current. What such a buffer holds goes nowhere then.
+    Empty for a model without configurations, and for an instance where no reachable state runs
+    the behaviour (nothing is known of where it runs)."""
+    links_from: dict[str, list[str]] = {}
+    for link in model.links:
+        if link.source:
+            links_from.setdefault(link.source, []).append(link.path)
+    linked: set[str] = set()
+    heard: set[str] = set()
+    for system in (s for s in model.systems if s.configurations):
+        for sub in (sub for agent in system.agents for sub in agent.subsystems if sub.block_id == definition.block_id):
+            states = [s for s in reachable_states(sub) if s.behaviours[:1] == (behaviour,)]
+            if not states:
+                return frozenset()
+            holding_now = [present(system, c) for state in states
+                           for c in configurations_while(model, system, sub, state)]
+            for buffer in sub.outputs:
+                paths = links_from.get(buffer.path, [])
+                if paths:
+                    linked.add(buffer.template)
+                if any(structure.has_link(path) for structure in holding_now for path in paths):
+                    heard.add(buffer.template)
+    return frozenset(linked - heard)
+
+
 def names_buffer(names: Iterable[str], buffer: Buffer) -> bool:
     """True when a list of Input Buffer names (a group's, as written) names ``buffer``."""
     return bool({buffer.name, buffer.template} & set(names))
@@ -192,6 +220,7 @@ __all__ = [
     "queued_inputs",
     "reachable_configurations",
     "reachable_states",
+    "silent_outputs",
     "system_of",
     "waits_without_bound",
 ]

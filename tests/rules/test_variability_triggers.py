@@ -457,3 +457,35 @@ def test_a_rule_per_configuration_is_ignored_by_its_code(tmp_path: Path) -> None
     findings = check(path, CheckOptions(ignore=frozenset({"S006"})))
     assert {d.code for d in findings} == {"S002"}, _describe(findings)
 
+
+
+def _command_per_manipulator(text: str) -> str:
+    """The task with an Output Buffer per manipulator (commandA/ob linked to manipA/a, commandB/ob
+    to manipB/a), withA writing only commandA/ob and withB only commandB/ob."""
+    text = _edit(text, "connect 'task/a'.cs.'command/ob' to 'cell/r'.'manipA/a'",
+                 "connect 'task/a'.cs.'commandA/ob' to 'cell/r'.'manipA/a'")
+    text = _edit(text, "connect 'task/a'.cs.'command/ob' to 'cell/r'.'manipB/a'",
+                 "connect 'task/a'.cs.'commandB/ob' to 'cell/r'.'manipB/a'")
+    text = _edit(text, "            port 'command/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n",
+                 "            port 'commandA/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n"
+                 "            port 'commandB/ob' : OutputBuffer { attribute :>> msg : DataTypes::Command; }\n")
+    pf = text[text.index("            action def 'command/pf' {"):]
+    pf = pf[:pf.index("            }\n") + len("            }\n")]
+    text = _edit(text, pf, pf.replace("'command/pf'", "'commandA/pf'").replace("'command/ob'", "'commandA/ob'")
+                 + pf.replace("'command/pf'", "'commandB/pf'").replace("'command/ob'", "'commandB/ob'"))
+    text = _edit(text, "then action command : 'command/pf';", "then action command : 'commandA/pf';")
+    return _edit(text, "then action command : 'command/pf';", "then action command : 'commandB/pf';")
+
+
+def test_an_output_whose_links_the_configuration_closes_is_not_stale(tmp_path: Path) -> None:
+    """T006 knows the configurations: withA never writes commandB/ob, whose one link useA (the only
+    configuration withA can run in) closes, so nothing stale is sent; the same buffer left
+    unwritten in a state where its link is open is still reported."""
+    text = _command_per_manipulator(FIXTURE.read_text(encoding="utf-8"))
+    findings = check(_write(tmp_path, text))
+    assert findings == [], _describe(findings)
+    # withB's link to manipB/a is open in useB: withB writing commandA/pf's buffer leaves commandB/ob stale
+    text = text.replace("then action command : 'commandB/pf';", "then action command : 'commandA/pf';")
+    findings = check(_write(tmp_path, text))
+    assert [(d.code, "commandB/ob" in d.message and "withB/bb" in d.message) for d in findings] == [("T006", True)], (
+        _describe(findings))

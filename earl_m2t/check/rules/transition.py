@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+from earl_m2t.analysis.switching import silent_outputs
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import BasicBehaviour, EarlModel, Subsystem
 
@@ -132,7 +133,9 @@ def output_buffer_not_written(model: EarlModel) -> Iterator[Finding]:
             if bb.activity_problems or any(pf is None for pf in functions):
                 continue  # a malformed tf is T005's; its writes are not known
             written = {path for pf in functions if pf is not None for path in pf.writes}
-            stale = list(dict.fromkeys(b.template for b in sub.outputs if b.path not in written))
+            silent = silent_outputs(model, sub, bb.name)  # its links closed wherever bb runs: nothing is sent
+            stale = list(dict.fromkeys(b.template for b in sub.outputs if b.path not in written
+                                       and b.template not in silent))
             if stale:
                 plural = "s" if len(stale) > 1 else ""
                 yield Finding(f"{bb.path}: no partial transition function of its tf writes output buffer{plural} "
