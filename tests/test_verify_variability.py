@@ -297,3 +297,16 @@ def test_a_queue_a_quiescent_state_never_reads_is_a_switch_that_loses_values(
     result = json.loads(capsys.readouterr().out)
     assert code == 1 and {f["code"] for f in result["findings"]} == {"V006"}, result
     assert any("stuck in manipA/a.cs@idle" in step["by"] for f in result["findings"] for step in f["trace"]), result
+
+
+def test_the_liveness_of_a_switch_fails_on_free_predicates_as_docs_verify_says(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """docs/verify.md no longer recommends ``[] (switching -> <> !switching)``: without fairness
+    it fails on samples/two_arm, the leaving manipA/a cycling on newCommand with its links closed."""
+    ends = "[] (switching -> <> !switching)"
+    code = main(["verify", str(SAMPLE_FILES["two_arm"]["sysml"]), "--format", "json", "--ltl", ends])
+    result = json.loads(capsys.readouterr().out)
+    assert code == 1 and [f["code"] for f in result["findings"]] == ["V005"], result
+    steps = result["findings"][0]["trace"]
+    assert any(s["subsystem"] == "manipA/a.cs" and s["to"] == "moving" and s["values"].get("leaving()") for s in steps)
