@@ -237,6 +237,15 @@ def queue_not_drained_periodic(text: str) -> Broken:
                   "does not receive its queued input manipA/a.cs.command/ib")
 
 
+def write_on_closed_links(text: str) -> Broken:
+    """X014: with a command buffer per manipulator, withA (useA: manipA/a's link only) sends on
+    commandB/ob, whose one link useA closes."""
+    text = _command_per_manipulator(text)
+    text = _edit(text, "then action command : 'commandA/pf';", "then action command : 'commandB/pf';")
+    return Broken(text, frozenset({"X014", "T006"}), "writes Output Buffer task/a.cs.commandB/ob, but "
+                  "configuration useA")
+
+
 def switch_timeout_short(text: str) -> Broken:
     """X009: the manipulators iterate at most every 2 ms (minPeriod), so draining 32 queued commands
     takes 64 ms, longer than the 50 ms switchTimeout."""
@@ -293,7 +302,7 @@ def robot_empty_in_configuration(text: str) -> Broken:
     """S002: a configuration parked holds no manipulator: robot cell/r has no agent there, and task/a
     has no link (S006)."""
     text = _configuration(text, 'metadata parked : Structure { agents = ""; links = ""; switchTimeout = 0.05; }')
-    return Broken(_coordinator_state(text, "waiting", "parked"), frozenset({"S002", "S006"}),
+    return Broken(_coordinator_state(text, "waiting", "parked"), frozenset({"S002", "S006", "X014"}),
                   "[configuration parked] robot cell/r contains no agent")
 
 
@@ -415,6 +424,7 @@ VARIABILITY_VARIANTS: dict[str, Callable[[str], Broken]] = {
     "X012": reactivation_unknown,
     "X012-timeout": switch_timeout_negative,
     "X013": no_quiescent_state,
+    "X014": write_on_closed_links,
     "X013-fixed-agent": quiescent_in_fixed_agent,
     "S002-configuration": robot_empty_in_configuration,
     "S006-configuration": zombie_in_configuration,
@@ -455,7 +465,7 @@ def test_variant_triggers_its_rule(variant: str, tmp_path: Path) -> None:
 def test_a_rule_per_configuration_is_ignored_by_its_code(tmp_path: Path) -> None:
     path = _write(tmp_path, robot_empty_in_configuration(FIXTURE.read_text(encoding="utf-8")).text)
     findings = check(path, CheckOptions(ignore=frozenset({"S006"})))
-    assert {d.code for d in findings} == {"S002"}, _describe(findings)
+    assert {d.code for d in findings} == {"S002", "X014"}, _describe(findings)
 
 
 
@@ -487,5 +497,6 @@ def test_an_output_whose_links_the_configuration_closes_is_not_stale(tmp_path: P
     # withB's link to manipB/a is open in useB: withB writing commandA/pf's buffer leaves commandB/ob stale
     text = text.replace("then action command : 'commandB/pf';", "then action command : 'commandA/pf';")
     findings = check(_write(tmp_path, text))
-    assert [(d.code, "commandB/ob" in d.message and "withB/bb" in d.message) for d in findings] == [("T006", True)], (
-        _describe(findings))
+    assert [(d.code, "commandB/ob" in d.message and "withB/bb" in d.message) for d in findings
+            if d.code == "T006"] == [("T006", True)], _describe(findings)
+    assert {d.code for d in findings} == {"T006", "X014"}, _describe(findings)  # and withB sends on commandA/ob

@@ -1,5 +1,5 @@
 """X rules about a switch at run time: inputs left without a link, queued values a leaving agent
-cannot drain, and switch timeouts shorter than the drain."""
+cannot drain, switch timeouts shorter than the drain, and sends on links a configuration closes."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from earl_m2t.analysis.switching import (
 )
 from earl_m2t.check.rule import Finding, rule
 from earl_m2t.model.elements import EarlModel
-from earl_m2t.model.variability import present
+from earl_m2t.model.variability import coordinator, present
 
 
 @rule("X007")
@@ -75,3 +75,30 @@ def switch_timeout_below_drain_bound(model: EarlModel) -> Iterator[Finding]:
                                   f"{agent.path}: {bound.queue_size} values × {bound.receiver_period:g} s + "
                                   f"{bound.coordinator_period:g} s (a coordinator period) = {bound.seconds:g} s",
                                   cfg.location, cfg.path)
+
+
+@rule("X014")
+def write_on_closed_links(model: EarlModel) -> Iterator[Finding]:
+    links_from: dict[str, list[str]] = {}
+    for link in model.links:
+        if link.source:
+            links_from.setdefault(link.source, []).append(link.path)
+    boss = coordinator(model)  # its states name configurations; another agent's sends are not tied to one
+    for system in (s for s in model.systems if s.configurations and boss is not None):
+        for sub in (sub for agent in system.agents for sub in agent.subsystems if sub.path == boss.path):
+            outputs = {b.path: b for b in sub.outputs if links_from.get(b.path)}
+            for state in reachable_states(sub):
+                behaviour = sub.behaviour(state.behaviours[0]) if len(state.behaviours) == 1 else None
+                if behaviour is None:
+                    continue
+                written = [outputs[path] for name in behaviour.functions if (pf := sub.function(name)) is not None
+                           for path in pf.writes if path in outputs]
+                for buffer in dict.fromkeys(written):
+                    closing = [c.name for c in configurations_while(model, system, sub, state)
+                               if not any(present(system, c).has_link(path) for path in links_from[buffer.path])]
+                    if closing:
+                        yield Finding(f"state {state.path} writes Output Buffer {buffer.path}, but configuration "
+                                      f"{', '.join(closing)}, which can hold while the state is current, closes "
+                                      "every link from it: what the state sends there goes nowhere",
+                                      state.location, state.path)
+
