@@ -350,10 +350,10 @@ def test_a_field_copied_with_its_id_onto_one_line_is_refused_by_check(tmp_path: 
     model.write_text(text[:field] + COPIED_FIELD * 2 + text[end:], encoding="utf-8")
     shutil.copy(SAMPLE.parent / "EARL.profile.uml", tmp_path / "EARL.profile.uml")
     errors = [d for d in check(model) if d.severity == "error"]
-    assert [(d.code, d.element) for d in errors] == [("D004", "DataTypes::EncoderReading.position")], errors
-    assert "2 elements are named 'position'" in errors[0].message
+    assert [(d.code, d.element) for d in errors] == [("S012", "DataTypes::EncoderReading.position")], errors
+    assert "field DataTypes::EncoderReading.position is named twice (first at line " in errors[0].message
     result = earl("gen", str(model), "--target", "msg", "-o", str(tmp_path / "out"))
-    assert result.returncode == 1 and "D004" in result.stderr and "nothing generated" in result.stderr
+    assert result.returncode == 1 and "S012" in result.stderr and "nothing generated" in result.stderr
 
 
 @pytest.mark.parametrize("name", ["éééééééééé", "éééééééééé/a", "Straße"])

@@ -9,6 +9,7 @@ textual representation ``language "EARL" /* … */``.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -258,10 +259,13 @@ class _View:
                 lines.append(f"    entry; then {quoted(initial)};" if initial else "    entry;")
             for state in states:
                 lines.extend("    " + line for line in self.state(subsystem, state, shared))
+            called = Counter(transition.name for transition in fsm.transitions)
             for transition in fsm.transitions:
-                lines.extend("    " + line for line in self.transition(transition.name, transition.source,
-                                                                          transition.target, transition.condition,
-                                                                          transition.priority))
+                # an unnamed transition is written with the name it is called by, unless another
+                # transition is called so too: then unnamed (two of one name are an error, S012)
+                name = transition.name if transition.named or called[transition.name] == 1 else ""
+                lines.extend("    " + line for line in self.transition(name, transition.source, transition.target,
+                                                                          transition.condition, transition.priority))
             lines.append("}")
 
     def concept(self, kind: str) -> str:
@@ -341,7 +345,7 @@ class _View:
             body.extend(_representation(condition.language, condition.text))
         if priority:
             body.append(f"@Priority {{ priority = {priority}; }}")
-        first = f"transition {quoted(name)}"
+        first = f"transition {quoted(name)}" if name else "transition"
         rest = [f"first {quoted(source)}{guard}", f"then {quoted(target)}"]
         if not body:
             rest[-1] += ";"

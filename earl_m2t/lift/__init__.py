@@ -42,5 +42,6 @@ def lift(raw: RawModel, profile: Profile | None = None, vocabulary: Vocabulary |
         has_earl_content=bool(systems) or structure.recognised_anything,
         suppressions=read_suppressions(raw),
         properties=read_properties(raw),
+        datatype_namesakes=tuple(types.namesakes),
     )
     return LiftResult(model, tuple(raw.diagnostics) + tuple(types.diagnostics) + tuple(structure.diagnostics))

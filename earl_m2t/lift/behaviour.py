@@ -271,7 +271,8 @@ class BehaviourLifter:
                 priority = int(tags["priority"])
             except ValueError:
                 priority = 0
-        return Transition(name, path, src, dst, src_foreign, dst_foreign, condition, priority, order, raw.location(tr))
+        return Transition(name, path, src, dst, src_foreign, dst_foreign, condition, priority, order, raw.location(tr),
+                          bool(raw.name(tr)))
 
     def _state_behaviours(self, state: Element, state_name: str) -> list[BasicBehaviour]:
         found = []

@@ -7,7 +7,7 @@ from functools import cache
 
 from earl_m2t.diagnostics import Diagnostic, Severity
 from earl_m2t.lift.replication import multiplicity
-from earl_m2t.model.datatypes import DataType, Field
+from earl_m2t.model.datatypes import DataType, DataTypeNamesake, Field
 from earl_m2t.model.kinds import DataTypeKind
 from earl_m2t.model.limits import MAX_ARRAY
 from earl_m2t.model.location import Location
@@ -16,6 +16,7 @@ from earl_m2t.resources import metamodel_path
 
 BUILTIN = Location("<builtin>")
 _STRUCT_TYPES = ("DataType", "Class", "Signal", "InterfaceBlock")
+_DATATYPE_TYPES = frozenset({"DataType", "Enumeration", "PrimitiveType"})
 
 
 @cache
@@ -46,6 +47,8 @@ class DataTypeLifter:
         self._keys: dict[int, str] = {}
         self._taken: dict[str, Element] = {}  # qualified name -> the element that has it
         self.diagnostics: list[Diagnostic] = []  # R008: an array beyond its bound
+        self.namesakes: list[DataTypeNamesake] = []  # rule S012: a name twice in one package
+        self._members: dict[int, dict[str, list[Element]]] = {}  # id of a package -> its members by name
 
     def type_of(self, typed: Element) -> tuple[str, str]:
         """(datatype key, unresolved reference text) for a typed element (property, port, parameter)."""
@@ -77,9 +80,10 @@ class DataTypeLifter:
         raw = self.raw
         uml_type = raw.uml_type(el)
         name = raw.name(el)
-        qualified = self._qualified_name(el)
+        natural, qualified = self._qualified_name(el)
         self._keys[id(el)] = qualified  # set first: recursive types must terminate (D002 finds them)
         location = raw.location(el)
+        self._compare_namesakes(el, name, natural)
         if uml_type == "PrimitiveType":
             kind = primitive_kind(name) or "real"
             self.datatypes[qualified] = DataType(name, qualified, DataTypeKind.PRIMITIVE, kind, location=location)
@@ -107,15 +111,34 @@ class DataTypeLifter:
                                                  location=location)
         return qualified
 
-    def _qualified_name(self, el: Element) -> str:
+    def _qualified_name(self, el: Element) -> tuple[str, str]:
+        """Its name qualified by its packages and blocks, and the key of its dataType: the same
+        name, unless another element has it (then qualified with its model's name too)."""
         names = [self.raw.name(el) or self.raw.xmi_id(el)]
         owner = self.raw.owner(el)
         while owner is not None and self.raw.uml_type(owner) and not self.raw.is_model(owner):
             names.append(self.raw.name(owner))
             owner = self.raw.owner(owner)
-        qualified = "::".join(reversed(names))
+        qualified = key = "::".join(reversed(names))
         if self._taken.setdefault(qualified, el) is not el and owner is not None and self.raw.name(owner):
             # another element, of another file, has that name: qualify it with its model's name
-            qualified = f"{self.raw.name(owner)}::{qualified}"
-            self._taken.setdefault(qualified, el)
-        return qualified
+            key = f"{self.raw.name(owner)}::{qualified}"
+            self._taken.setdefault(key, el)
+        return qualified, key
+
+    def _compare_namesakes(self, el: Element, name: str, qualified: str) -> None:
+        """Record the dataTypes of its package named as it is (rule S012), once per package and
+        name: one key holds one dataType, and those the model does not use are never lifted."""
+        owner = self.raw.owner(el)
+        if owner is None or not name:
+            return
+        members = self._members.get(id(owner))
+        if members is None:
+            members = self._members[id(owner)] = {}
+            for child in owner.iterchildren():
+                if isinstance(child.tag, str) and child.get("name"):
+                    members.setdefault(child.get("name") or "", []).append(child)
+        types = _DATATYPE_TYPES | {self.raw.uml_type(el)}
+        same = [member for member in members.pop(name, ()) if self.raw.uml_type(member) in types]
+        if len(same) > 1:
+            self.namesakes.append(DataTypeNamesake(qualified, tuple(self.raw.location(member) for member in same)))

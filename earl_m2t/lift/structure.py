@@ -29,6 +29,7 @@ from earl_m2t.model.elements import (
 )
 from earl_m2t.model.kinds import Direction, GroupKind, ReceiveMode, SubsystemKind
 from earl_m2t.model.limits import MAX_QUEUE
+from earl_m2t.model.location import Location
 from earl_m2t.read.xmi import Element, ExternalRef, RawModel
 
 
@@ -312,17 +313,19 @@ class StructureLifter:
         behaviours: list[BasicBehaviour] = []
         if machines:
             fsm, behaviours = lifter.fsm(machines[0])
+        # one basic behaviour per activity: the states that call a shared one name it, and it is
+        # an owned behaviour of the block too; two activities of one name are two (rule S012)
         shared = [b for b, concept in lifter.owned_behaviours(block) if concept == "BasicBehaviour"]
-        known = {b.name for b in behaviours}
+        known = {(b.name, b.location) for b in behaviours}
         for activity in shared:
-            if raw.name(activity) not in known:
+            if (raw.name(activity), raw.location(activity)) not in known:
                 behaviours.append(lifter.basic_behaviour(activity, raw.name(activity)))
-                known.add(raw.name(activity))
+                known.add((raw.name(activity), raw.location(activity)))
         unique = []
-        seen: set[str] = set()
+        seen: set[tuple[str, Location]] = set()
         for bb in behaviours:
-            if bb.name not in seen:
-                seen.add(bb.name)
+            if (bb.name, bb.location) not in seen:
+                seen.add((bb.name, bb.location))
                 unique.append(bb)
         subsystem = Subsystem(
             name, path, SubsystemKind(kind), agent_path, raw.name(block), raw.xmi_id(block), raw.name(part), index,

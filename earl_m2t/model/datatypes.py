@@ -43,3 +43,15 @@ class DataType:
 
     def field_named(self, name: str) -> Field | None:
         return next((f for f in self.fields if f.name == name), None)
+
+
+@dataclass(frozen=True, slots=True)
+class DataTypeNamesake:
+    """DataTypes of one package that have one name.
+
+    The lift keeps one dataType per qualified name, and only those the model uses; it records
+    here each name a package gives to several of its dataTypes, one of them used, so that rule
+    S012 can report the second."""
+
+    qualified_name: str  # the name they have in their package
+    locations: tuple[Location, ...]  # of each, in model order

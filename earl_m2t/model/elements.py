@@ -14,7 +14,7 @@ from functools import cached_property
 from earl_m2t.model.activation import Activation, BufferGroup, Simulation
 from earl_m2t.model.conditions import Condition
 from earl_m2t.model.configuration import Configuration
-from earl_m2t.model.datatypes import DataType
+from earl_m2t.model.datatypes import DataType, DataTypeNamesake
 from earl_m2t.model.directives import LtlProperty, Suppression
 from earl_m2t.model.kinds import (
     AccessMode,
@@ -172,6 +172,9 @@ class Transition:
     priority: int
     order: int  # position in the model, which breaks priority ties
     location: Location
+    # False when the model leaves it unnamed: it is then called ``source,target/t``, which two
+    # unnamed transitions between the same states share (rule S012 compares named ones only)
+    named: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -381,6 +384,9 @@ class EarlModel:
     has_earl_content: bool = True  # False when nothing in the file was recognised as EARL
     suppressions: tuple[Suppression, ...] = ()  # its ``earl-m2t: ignore[…]`` comments
     properties: tuple[LtlProperty, ...] = ()  # its «LtlProperty» constraints and ``earl-m2t: ltl`` comments
+    # the names a package gives to several of its dataTypes (rule S012): ``datatypes`` holds one
+    # dataType per qualified name, of those the model uses
+    datatype_namesakes: tuple[DataTypeNamesake, ...] = ()
 
     @property
     def system(self) -> System | None:

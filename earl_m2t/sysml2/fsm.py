@@ -40,11 +40,13 @@ class FsmWriter:
         if target is not None and target.node is not None and target.node.kind == "state":
             body.extend(members(target.node))
         body.extend(members(node))
-        states: dict[str, Element] = {}
+        states: dict[str, Element] = {}  # by name: the first state of a name (rule S012 reports a second)
+        vertices: dict[int, Element] = {}  # by state usage
         for member in body:
             name_of_state = identification(member)[1] if rule(member) == "Usage" and member.kind == "state" else None
             if name_of_state:
-                states[name_of_state] = self.uml.child(region, "subvertex", "State", member, name_of_state)
+                vertex = vertices[id(member)] = self.uml.child(region, "subvertex", "State", member, name_of_state)
+                states.setdefault(name_of_state, vertex)
         after_entry = False
         for member in body:
             kind = rule(member)
@@ -53,8 +55,8 @@ class FsmWriter:
             elif kind == "TransitionUsage":
                 self.transition(region, member, states)
             elif kind == "Usage" and member.kind == "state":
-                self.state_behaviour(block, states.get(identification(member)[1] or ""), member)
-                self.state_activation(states.get(identification(member)[1] or ""), member)
+                self.state_behaviour(block, vertices.get(id(member)), member)
+                self.state_activation(vertices.get(id(member)), member)
             after_entry = kind == "EntryAction"
 
     def initial(self, region: Element, member: Any, states: dict[str, Element]) -> None:

@@ -435,19 +435,20 @@ def untyped_memory(s: Sample) -> Expect:
 
 def link_between_two_outputs(s: Sample) -> Expect:
     """C001: a new link of GripperAgent joins two Output Buffers: cs.fingerCommand/ob and
-    fingerController/ve.desiredCurrent/ob."""
+    fingerController/ve.desiredCurrent/ob. It is unnamed (cs,fingerController/ve names a link
+    of the sample, S012)."""
     cs, ve = s.attribute("GripperAgent", "cs"), s.attribute("GripperAgent", "fingerController/ve")
-    connector = s.connect("GripperAgent", "cs,fingerController/ve",
+    connector = s.connect("GripperAgent", "",
                           (cs, s.attribute("GripperControl", "fingerCommand/ob")),
                           (ve, s.attribute("FingerController", "desiredCurrent/ob")))
     return Expect(s.id(connector), "grip/a.cs,fingerController/ve")
 
 
 def link_between_two_inputs(s: Sample) -> Expect:
-    """C001: a new link of GripperAgent joins two Input Buffers: fingerController/ve's
+    """C001: a new, unnamed link of GripperAgent joins two Input Buffers: fingerController/ve's
     motorControllerCommand/ib and cs.fingerState/ib."""
     cs, ve = s.attribute("GripperAgent", "cs"), s.attribute("GripperAgent", "fingerController/ve")
-    connector = s.connect("GripperAgent", "fingerController/ve,cs",
+    connector = s.connect("GripperAgent", "",
                           (ve, s.attribute("FingerController", "motorControllerCommand/ib")),
                           (cs, s.attribute("GripperControl", "fingerState/ib")))
     return Expect(s.id(connector), "grip/a.fingerController/ve,cs")

@@ -228,7 +228,7 @@ class _EAWriter:
         self.regions: dict[str, int] = {}
         self.package_of: dict[str, str] = {}
         self.names: dict[str, tuple[str, str]] = {}  # id -> (EA type, name) for connector copies
-        self.tree: dict[str, _Copy] = {}  # the copies on the parts of the block being written
+        self.tree: dict[str, _Copy] = {}  # the copies on the parts of the block being written, by part key
         self.current_package = ""
         self.local_ids: dict[str, int] = {}
         self.tree_positions: dict[str, int] = {}
@@ -474,7 +474,7 @@ class _EAWriter:
                 path = end.end.path
                 if not path:
                     continue
-                outer = self.tree.setdefault(path[0].name or "", _Copy(path[0], self.id(path[0])))
+                outer = self.tree.setdefault(path[0].key, _Copy(path[0], self.id(path[0])))
                 chain = outer
                 names = [path[0].name or ""]
                 for part in path[1:]:
@@ -504,7 +504,7 @@ class _EAWriter:
         )  # fmt: skip
         self.type_ref(node, prop.type)
         self.bounds(node, prop_id, prop.multiplicity, always=False)
-        copy = self.tree.get(prop.name or "")
+        copy = self.tree.get(prop.key)  # a part of the same name has copies of its own
         if copy is not None:
             for child in _in_model_order(copy.children.values()):
                 node.add(self.qualifier(child, prop_id))

@@ -111,9 +111,14 @@ def name_not_identifier(model: EarlModel) -> Iterator[Finding]:
             yield Finding(message_problem.text, message_problem.location, shortened(message_problem.path))
 
 
-def _paths_scope(scope: str) -> bool:
-    """Agents of a System and Subsystems of an Agent: one name twice is one path twice (S012)."""
-    return scope == "agents" or scope.endswith(" subsystems")
+def _one_namespace(model: EarlModel, scope: str, items: list[tuple[str, str, Location]]) -> bool:
+    """Whether elements of one name are in one namespace, where S012 reports them: always, but
+    for dataTypes of several packages."""
+    if scope != "dataTypes":
+        return True
+    package_of = {location: n for n, namesake in enumerate(model.datatype_namesakes)
+                  for location in namesake.locations}
+    return len({package_of.get(location, location) for _, _, location in items}) == 1
 
 
 @rule("D004")
@@ -136,7 +141,9 @@ def identifier_collision(model: EarlModel) -> Iterator[Finding]:
             involved.update(p for _, p, _ in items)
             yield Finding(f"{path}: {' and '.join(repr(n) for n in names)} map to the same identifier or file "
                           f"name '{key}'", location, path)
-        elif not _paths_scope(scope):  # one name twice, even at one place (an element copied with its id)
+        elif _one_namespace(model, scope, items):
+            involved.update(p for _, p, _ in items)  # S012 reports the name given twice
+        else:  # one name in two packages
             reported.add(path)
             involved.update(p for _, p, _ in items)
             yield Finding(f"{path}: {len(items)} elements are named '{names[0]}'", location, path)

@@ -51,7 +51,10 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
         receiver = agent_of.get(row["receiver_subsystem"], "")
         link_rows.append({"name": cpp_string(path), "member": row["expression"],
                           "receiver": f"&{slots[receiver]}" if receiver in slots else "nullptr"})
-    index = {c.name: i for i, c in enumerate(system.configurations)}
+    index: dict[str, int] = {}
+    for i, c in enumerate(system.configurations):
+        if index.setdefault(c.name, i) != i:  # a state naming it would get the other one's structure
+            raise GenError(f"{c.path}: two configurations have this name (rule S012)")
     configurations = []
     for configuration in system.configurations:
         structure = variability.present(system, configuration)
