@@ -38,6 +38,7 @@ from tests.support import orocos
 from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
+from tests.support.switch_checks import TwoArm, forced_switches, forced_two_arm
 from tests.support.switch_checks_orocos import (
     HARMONISER_SWITCHES,
     LEAD,
@@ -185,6 +186,24 @@ def test_the_checks_catch_a_switch_that_skips_the_drain(two_arm: Path, rtt: oroc
                        if two_arm_problems(deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))[0])), None)
     assert caught is not None, (f"all {catch_runs(TWO_ARM_CAMPAIGN)} deployments of the drain-skipping build "
                                 "passed the checks")
+
+
+def test_forced_switches_name_every_command_they_lose(rtt: orocos.Installation, tmp_path: Path) -> None:
+    """two_arm with switchTimeout = 0.001 (below a master's 2 ms period): the switches are forced,
+    and every command is taken or named undelivered by the manipulator's master (the one it had
+    taken and not yet processed too), the coordinator's counts adding up."""
+    model = forced_two_arm(tmp_path / "model")
+    out = tmp_path / "out"
+    shutil.copytree(model.parent / "user", out / "user")
+    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "orocos", "-o",
+                             str(out), "--force"], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    deployer = Deployer(deployment(out, tmp_path / "deploy"), install(out, rtt), rtt)
+    lines, _ = deployer.run(lambda seen: two_arm_finished(seen, "task_a_cs"))
+    assert forced_switches(lines) > 0, lines[-20:]
+    assert TwoArm.unreconciled(lines) == [], lines[-20:]
+    named = sum(1 for line in lines if TwoArm.NAMED.match(line))
+    print(f"two_arm forced: {forced_switches(lines)} forced switches, {named} commands named undelivered")
 
 
 # ---------------------------------------------------------------- harmoniser

@@ -46,6 +46,8 @@ from tests.support.switch_checks import (
     TwoArm,
     beyond_timeout,
     cpp_trace,
+    forced_switches,
+    forced_two_arm,
     latencies_ms,
     latency_summary,
     notable,
@@ -151,12 +153,13 @@ def jazzy() -> ros2.Installation:
     return ros2.installation_for_tests()
 
 
-def gen(model: Path, ws: Path, user: Path | None = None) -> None:
-    """A colcon workspace whose src/ is gen's output for ``model``, its shipped user code
-    (``user``, else the one beside the model) first; gen again over a workspace keeps its user code."""
+def gen(model: Path, ws: Path, user: Path | None = None, *options: str) -> None:
+    """A colcon workspace whose src/ is gen's output for ``model`` (gen's ``options`` added), its
+    shipped user code (``user``, else the one beside the model) first; gen again over a workspace
+    keeps its user code."""
     shutil.copytree(user or model.parent / "user", ws / "src" / "user", dirs_exist_ok=True)
     result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "ros2", "-o",
-                             str(ws / "src")], capture_output=True, text=True, timeout=300)
+                             str(ws / "src"), *options], capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
 
 
@@ -265,6 +268,22 @@ def test_two_arm_checks_catch_a_build_that_skips_the_drain(
                 break
     print(f"\ntwo_arm (ros2, composed={composed}) without the drain: {caught}")
     assert caught is not None, f"all {runs} launches of the drain-skipping build passed the checks"
+
+
+def test_forced_switches_name_every_command_they_lose(
+        tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation, tmp_path: Path) -> None:
+    """two_arm with switchTimeout = 0.001: the switches are forced, and every command is taken
+    or named undelivered by the manipulator's node (the one it had taken and not yet processed
+    too), the coordinator's counts adding up."""
+    model = forced_two_arm(tmp_path_factory.mktemp("two_arm_forced"))
+    ws = tmp_path_factory.mktemp("two_arm_forced_ros2_ws")
+    gen(model, ws, None, "--force")
+    lines, reached, _ = launch(build(jazzy, ws), jazzy, tmp_path, TwoArm.finished)
+    assert reached, notable(lines)
+    assert forced_switches(lines) > 0, notable(lines)
+    assert TwoArm.unreconciled(lines) == [], notable(lines)
+    named = sum(1 for line in lines if TwoArm.NAMED.match(line))
+    print(f"two_arm forced: {forced_switches(lines)} forced switches, {named} commands named undelivered")
 
 
 # ------------------------------------------------------------------ harmoniser

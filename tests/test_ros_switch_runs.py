@@ -49,6 +49,8 @@ from tests.support.switch_checks import (
     TwoArm,
     beyond_timeout,
     cpp_trace,
+    forced_switches,
+    forced_two_arm,
     latencies_ms,
     latency_summary,
     notable,
@@ -231,6 +233,23 @@ def test_two_arm_checks_catch_a_build_that_skips_the_drain(
     print(f"\ntwo_arm without the drain: {caught}")
     assert caught is not None, (f"all {catch_runs(TWO_ARM_CAMPAIGN)} launches of the drain-skipping build "
                                 "passed the checks")
+
+
+@launched
+def test_forced_switches_name_every_command_they_lose(
+        tmp_path_factory: pytest.TempPathFactory, core: tuple[Path, int, xmlrpc.client.ServerProxy]) -> None:
+    """two_arm with switchTimeout = 0.001: the switches are forced, and every command is taken
+    or named undelivered by the manipulator's node (the one it had taken and not yet processed
+    too), the coordinator's counts adding up."""
+    model = forced_two_arm(tmp_path_factory.mktemp("two_arm_forced"))
+    ws = tmp_path_factory.mktemp("two_arm_forced_ws")
+    generate(model, model.parent / "user", ws, "--force")
+    lines, reached, _ = launch(catkin_make(ws), core, TwoArm.finished)
+    assert reached, notable(lines)
+    assert forced_switches(lines) > 0, notable(lines)
+    assert TwoArm.unreconciled(lines) == [], notable(lines)
+    named = sum(1 for line in lines if TwoArm.NAMED.match(line))
+    print(f"two_arm forced: {forced_switches(lines)} forced switches, {named} commands named undelivered")
 
 
 # ------------------------------------------------------------------ harmoniser

@@ -32,7 +32,7 @@ import pytest
 from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
-from tests.support.switch_checks import SWITCH, TwoArm
+from tests.support.switch_checks import SWITCH, TwoArm, forced_switches, forced_two_arm
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "two_arm" / "two_arm.uml"
@@ -73,14 +73,9 @@ def undrained(generated: Path) -> Path:
 @pytest.fixture(scope="module")
 def forced_generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The sample with switchTimeout = 0.001 (1 ms, one coordinator cycle), generated."""
-    folder = tmp_path_factory.mktemp("two_arm_forced")
-    model = folder / "two_arm.sysml"
-    text = (SAMPLE.parent / "two_arm.sysml").read_text(encoding="utf-8")
-    assert text.count("switchTimeout = 0.1;") == 2
-    model.write_text(text.replace("switchTimeout = 0.1;", "switchTimeout = 0.001;"), encoding="utf-8")
-    out = folder / "out"
-    shutil.copytree(USER, out / "user")
-    # --force: rule X009 says what the test wants, a timeout below the drain bound
+    model = forced_two_arm(tmp_path_factory.mktemp("two_arm_forced"))
+    out = model.parent / "out"
+    shutil.copytree(model.parent / "user", out / "user")
     run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "cpp", "-o", out, "--force")
     return out
 
@@ -141,23 +136,23 @@ def test_a_forced_switch_names_every_command_it_loses(forced: Path) -> None:
     command the leaving arm took in its last iteration and had not yet run its pfs on."""
     lines = run(forced, "--cycles", str(CYCLES)).splitlines()
     assert TwoArm.unreconciled(lines) == []
-    assert sum(1 for m in map(SWITCH.match, lines) if m and m.group(5)) == SWITCHES
+    assert forced_switches(lines) == SWITCHES
     assert any(TwoArm.NAMED.match(line) for line in lines)
 
 
 @pytest.mark.loaded
 def test_threaded_forced_switches_under_load_name_every_command_they_lose(forced: Path) -> None:
-    failures, forced_switches = [], 0
+    failures, count = [], 0
     with cpu_hogs():
         for attempt in range(loaded_runs(FORCED_CAMPAIGN)):
             lines = threaded_run(forced)
-            forced_switches += sum(1 for m in map(SWITCH.match, lines) if m and m.group(5))
+            count += forced_switches(lines)
             found = TwoArm.unreconciled(lines)
             if found:
                 failures.append(f"run {attempt + 1}: {found}")
     assert not failures, "\n".join(failures)
     print(f"two_arm C++ threaded, switchTimeout 1 ms: {loaded_runs(FORCED_CAMPAIGN)} runs, "
-          f"{forced_switches} forced switches, every command taken or named")
+          f"{count} forced switches, every command taken or named")
 
 
 @pytest.mark.loaded

@@ -38,12 +38,12 @@ def run(*command: str | Path, cwd: Path | None = None, timeout: int = 120) -> st
     return result.stdout
 
 
-def generate(model: Path, user: Path, ws: Path) -> str:
-    """A catkin workspace ``ws`` whose src/ is gen's output for ``model``, its user code
-    ``user`` copied into src/user/ first; gen's output."""
+def generate(model: Path, user: Path, ws: Path, *options: str) -> str:
+    """A catkin workspace ``ws`` whose src/ is gen's output for ``model`` (gen's ``options``
+    added), its user code ``user`` copied into src/user/ first; gen's output."""
     src = ws / "src"
     shutil.copytree(user, src / "user")
-    return run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "ros", "-o", src)
+    return run(sys.executable, "-m", "earl_m2t", "gen", model, "--target", "ros", "-o", src, *options)
 
 
 def catkin_make(ws: Path, *flags: str) -> Path:

@@ -6,6 +6,7 @@ executor, a ROS launch): ``samples/two_arm`` hands numbered commands over betwee
 from __future__ import annotations
 
 import re
+import shutil
 import statistics
 from pathlib import Path
 
@@ -43,6 +44,25 @@ def notable(lines: list[str]) -> str:
 
 
 # ------------------------------------------------------------------ two_arm
+
+def forced_two_arm(folder: Path) -> Path:
+    """samples/two_arm (its SysML v2 file) with switchTimeout = 0.001 in ``folder``, its user code
+    beside it: one millisecond, a coordinator cycle, forces every switch. gen needs --force
+    (rule X009 says the timeout is below the drain bound, which is the point)."""
+    sample = Path(__file__).resolve().parents[2] / "samples" / "two_arm"
+    text = (sample / "two_arm.sysml").read_text(encoding="utf-8")
+    assert text.count("switchTimeout = 0.1;") == 2
+    model = folder / "two_arm.sysml"
+    folder.mkdir(parents=True, exist_ok=True)
+    model.write_text(text.replace("switchTimeout = 0.1;", "switchTimeout = 0.001;"), encoding="utf-8")
+    shutil.copytree(sample / "user", folder / "user")
+    return model
+
+
+def forced_switches(lines: list[str]) -> int:
+    """How many switch lines say the switch was forced."""
+    return sum(1 for m in map(SWITCH.match, lines) if m and m.group(5))
+
 
 class TwoArm:
     """task/a.cs sends 201 numbered commands and hands the job over between manipA/a and

@@ -84,7 +84,9 @@ def write_on_closed_links(model: EarlModel) -> Iterator[Finding]:
         if link.source:
             links_from.setdefault(link.source, []).append(link.path)
     boss = coordinator(model)  # its states name configurations; another agent's sends are not tied to one
-    for system in (s for s in model.systems if s.configurations and boss is not None):
+    if boss is None:
+        return
+    for system in (s for s in model.systems if s.configurations):
         for sub in (sub for agent in system.agents for sub in agent.subsystems if sub.path == boss.path):
             outputs = {b.path: b for b in sub.outputs if links_from.get(b.path)}
             for state in reachable_states(sub):

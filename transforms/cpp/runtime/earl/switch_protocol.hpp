@@ -94,6 +94,13 @@ class SwitchMember final : public SwitchControl {
   bool control() const noexcept { return control_; }
   std::uint16_t node() const noexcept { return node_; }
 
+  /// At initialisation: who is told each value a forced switch clears here (its seq, on the
+  /// link of that number in ``linkNames``); the coordinator counts them per link.
+  void setObserver(SwitchObserver* observer, const char* const* linkNames) noexcept {
+    observer_ = observer;
+    linkNames_ = linkNames;
+  }
+
   /// At initialisation: the node sends the variable link ``link``.
   void sends(std::size_t link) noexcept {
     if (link < Links) sends_[link] = true;
@@ -105,7 +112,9 @@ class SwitchMember final : public SwitchControl {
     receivers_[link] = Receiver{&channel.gate(), &channel,
                                 [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->fresh(); },
                                 [](const void* c) noexcept { return static_cast<const VariableLink<Ch>*>(c)->held(); },
-                                [](void* c) noexcept { return static_cast<VariableLink<Ch>*>(c)->discard(); }};
+                                [](void* c, LostValue each, void* context) noexcept {
+                                  return static_cast<VariableLink<Ch>*>(c)->discard(each, context);
+                                }};
   }
 
   /// At initialisation: the links and the agent as ``configuration`` has them.
@@ -133,7 +142,10 @@ class SwitchMember final : public SwitchControl {
   template <class Ch>
   bool deliver(std::size_t link, VariableLink<Ch>& channel, const typename VariableLink<Ch>::value_type& value) noexcept {
     if (link >= Links) return false;
-    if (++arrived_[link] <= dropUpTo_[link]) return false;
+    if (++arrived_[link] <= dropUpTo_[link]) {  // counted at the park of a forced switch
+      lost(link, seqOf(value));
+      return false;
+    }
     channel.Ch::write(value);
     return true;
   }
@@ -228,7 +240,20 @@ class SwitchMember final : public SwitchControl {
     void* channel = nullptr;
     bool (*fresh)(const void*) noexcept = nullptr;
     bool (*held)(const void*) noexcept = nullptr;
-    std::uint64_t (*discard)(void*) noexcept = nullptr;
+    std::uint64_t (*discard)(void*, LostValue, void*) noexcept = nullptr;
+  };
+
+  /// A value of the link ``link`` a forced switch cleared: told to the observer.
+  void lost(std::size_t link, std::int64_t seq) const noexcept {
+    if (observer_ != nullptr) observer_->undeliveredValue(linkNames_ != nullptr ? linkNames_[link] : "?", seq);
+  }
+  struct Lost {
+    const SwitchMember* member;
+    std::size_t link;
+    static void each(void* context, std::int64_t seq) noexcept {
+      const Lost& lost = *static_cast<const Lost*>(context);
+      lost.member->lost(lost.link, seq);
+    }
   };
 
   bool closes(std::size_t l) const noexcept {
@@ -285,7 +310,8 @@ class SwitchMember final : public SwitchControl {
       const Receiver& r = receivers_[l];
       if (r.channel == nullptr || !closes(l)) continue;
       const std::uint64_t late = expected_[l] > arrived_[l] ? expected_[l] - arrived_[l] : 0;
-      undelivered_[l] = r.discard(r.channel) + late;
+      Lost context{this, l};
+      undelivered_[l] = r.discard(r.channel, &Lost::each, &context) + late;
       if (expected_[l] > dropUpTo_[l]) dropUpTo_[l] = expected_[l];
     }
   }
@@ -324,6 +350,8 @@ class SwitchMember final : public SwitchControl {
   std::array<std::uint64_t, Links> expected_{};
   std::array<std::uint64_t, Links> dropUpTo_{};
   std::array<std::uint64_t, Links> undelivered_{};
+  SwitchObserver* observer_ = nullptr;
+  const char* const* linkNames_ = nullptr;
 };
 
 /// The switch as the coordinator's node drives it: SwitchedSubsystem::coordinate() takes it
