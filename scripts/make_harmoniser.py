@@ -213,7 +213,8 @@ def task_control(pkg: Package, dt: DataTypes, name: str, active: str, progress: 
     """The control subsystem of a task agent: ``waiting`` (initial, quiescent) and ``active``.
 
     While a switch removes the agent (``leaving()``), ``active`` ends and the agent goes to
-    ``waiting``, whose ``rest`` pf stops what it commanded; there the switch stops it. Brought
+    ``waiting``, whose ``rest`` pf stops what it commanded and takes the robot's status (a value
+    left in an input would hold the switch until its timeout); there the switch stops it. Brought
     back (``reactivation = resume``), it is still in ``waiting`` with its memory, ``progress``
     included, and goes on from there."""
     cs = pkg.block(name, "ControlSubsystem")
@@ -223,7 +224,8 @@ def task_control(pkg: Package, dt: DataTypes, name: str, active: str, progress: 
     done = cs.memory(progress, dt.integer)
     work_pf = cs.partial_transition_function(work[0], reads=[status, seq, done], writes=[command, seq, done],
                                              body=work[1])
-    rest_pf = cs.partial_transition_function(rest[0], reads=[seq], writes=[command, seq], body=rest[1])
+    # the rest pf reads the status too: waiting, where a switch stops the agent, takes what tiago/a sent
+    rest_pf = cs.partial_transition_function(rest[0], reads=[status, seq], writes=[command, seq], body=rest[1])
 
     fsm = cs.state_machine()
     waiting = fsm.state("waiting", initial=True)

@@ -11,7 +11,8 @@ could not deliver.
 * sensitivity control: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``, test-only)
   fails the checks in at least one of 50 threaded runs;
 * forced switches (``switchTimeout = 0.001``): every command is taken or named undelivered at a
-  switch, including the one a manipulator had taken and not yet run its pfs on.
+  switch, including the one a manipulator had taken and not yet run its pfs on; a build that
+  forgets that value (``-DEARL_SWITCH_SETTLE=0``, test-only) fails the deterministic check.
 
 The checks: every numbered command is taken exactly once, by the arm of the configuration it
 was sent in; no value is undelivered at a switch and no queue overflows; 20 switches, each
@@ -155,15 +156,13 @@ def test_threaded_forced_switches_under_load_name_every_command_they_lose(forced
           f"{count} forced switches, every command taken or named")
 
 
-@pytest.mark.loaded
-def test_the_checks_catch_a_forced_switch_that_forgets_the_value_taken(unsettled: Path) -> None:
+def test_the_deterministic_checks_catch_a_forced_switch_that_forgets_the_value_taken(unsettled: Path) -> None:
     """The runtime of before: the value a leaving arm took in its last iteration is neither run
-    through its pfs nor counted."""
-    assert TwoArm.unreconciled(run(unsettled, "--cycles", str(CYCLES)).splitlines())
-    with cpu_hogs():
-        caught = next((attempt for attempt in range(catch_runs(FORCED_CAMPAIGN))
-                       if TwoArm.unreconciled(threaded_run(unsettled))), None)
-    assert caught is not None, f"all {catch_runs(FORCED_CAMPAIGN)} runs of the forgetting build passed the checks"
+    through its pfs nor counted. Deterministic, where every switch is forced (a threaded run on a
+    quiet machine forces few: 3 switches in 20 runs under load, 1 of them caught)."""
+    lines = run(unsettled, "--cycles", str(CYCLES)).splitlines()
+    assert forced_switches(lines) == SWITCHES
+    assert len(TwoArm.unreconciled(lines)) >= SWITCHES // 2, TwoArm.unreconciled(lines)
 
 
 def test_no_heap_allocation_per_cycle_switches_included(generated: Path) -> None:

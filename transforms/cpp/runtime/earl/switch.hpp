@@ -127,8 +127,9 @@ class VariableLink : public Ch {
   const Gate& gate() const noexcept { return gate_; }
 
   /// The receiver took a value of this link that its pfs have not run on yet: it is in the
-  /// Input Buffer, read at the end of the receiver's last iteration, for its next one. Set and
-  /// cleared by the receiving port (SwitchedInputPort::receive()), in the receiver's thread.
+  /// Input Buffer, read at the end of the receiver's last iteration, for its next one. Set by
+  /// the receiving port's receive(), cleared by its settle() (after the pfs of the next
+  /// iteration) or reset(), all in the receiver's thread, and by discard().
   bool held() const noexcept { return held_.load(std::memory_order_relaxed); }
   void hold(bool value, std::int64_t seq = -1) noexcept {
     heldSeq_ = seq;
