@@ -167,21 +167,26 @@ def obligatory_input_closed(text: str) -> Broken:
                   "no link into it is open in configuration useAB")
 
 
-def queue_not_drained(text: str) -> Broken:
-    """X008: the manipulators' moving state waits for a new input stop/ib instead of command/ib, its
-    behaviour calls a pf that does not read command/ib and its conditions do not read it; moving is
-    not quiescent."""
-    text = _edit(text, "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
+def _with_stops(text: str, optional: str) -> str:
+    """The manipulators with an Input Buffer stop/ib, a group stops (stop/ib obligatory,
+    ``optional`` optional) and a pf hold/pf that reads nothing."""
+    return _edit(text, "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
                        "            metadata commands",
                  "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
                  "            port 'stop/ib' : InputBuffer {\n"
                  "                attribute :>> msg : DataTypes::Status;\n"
                  "                comment /* earl-m2t: ignore[C007] wired by the cell's integrator */\n"
                  "            }\n"
-                 '            metadata stops : Group { obligatory = "stop/ib"; optional = ""; }\n'
+                 f'            metadata stops : Group {{ obligatory = "stop/ib"; optional = "{optional}"; }}\n'
                  "            action def 'hold/pf' { out 'status/ob'; language \"C++\" /* // Holds. */ }\n"
                  "            metadata commands")
-    return Broken(_moving_holds(text, STOPS), frozenset({"X008"}),
+
+
+def queue_not_drained(text: str) -> Broken:
+    """X008: the manipulators' moving state waits for a new input stop/ib instead of command/ib, its
+    behaviour calls a pf that does not read command/ib and its conditions do not read it; moving is
+    not quiescent."""
+    return Broken(_moving_holds(_with_stops(text, ""), STOPS), frozenset({"X008"}),
                   "does not receive its queued input manipA/a.cs.command/ib")
 
 
@@ -209,17 +214,7 @@ def _moving_holds(text: str, activation: str) -> str:
 def queue_optional_not_drained(text: str) -> Broken:
     """X008: as X008, but moving's group names command/ib optional: an optional input the behaviour
     never reads is not received (earl_m2t.analysis.receiving), so the queue waits there."""
-    text = _edit(text, "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
-                       "            metadata commands",
-                 "            port 'status/ob' : OutputBuffer { attribute :>> msg : DataTypes::Status; }\n"
-                 "            port 'stop/ib' : InputBuffer {\n"
-                 "                attribute :>> msg : DataTypes::Status;\n"
-                 "                comment /* earl-m2t: ignore[C007] wired by the cell's integrator */\n"
-                 "            }\n"
-                 '            metadata stops : Group { obligatory = "stop/ib"; optional = "command/ib"; }\n'
-                 "            action def 'hold/pf' { out 'status/ob'; language \"C++\" /* // Holds. */ }\n"
-                 "            metadata commands")
-    return Broken(_moving_holds(text, STOPS), frozenset({"X008"}),
+    return Broken(_moving_holds(_with_stops(text, "command/ib"), STOPS), frozenset({"X008"}),
                   "does not receive its queued input manipA/a.cs.command/ib")
 
 
