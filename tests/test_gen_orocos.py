@@ -455,7 +455,7 @@ def test_ocls_deployer_runs_the_system_through_the_states_of_the_model(out: Path
 
 def latest_value_installed(rtt: orocos.Installation, folder: Path) -> tuple[Path, Path]:
     """(gen's output, the install prefix) of the known-bad variant (tests/support/known_bad.py),
-    built once per content: tests/test_known_bad_builds.py builds it among the parallel tests."""
+    built once per content: tests/test_campaign_builds.py builds it among the parallel tests."""
     out = folder / "out"
     shutil.copytree(USER, out / "user")
     result = earl("gen", str(known_bad.one_shot_into_latest_value(folder / "model")), "--target", "orocos",

@@ -217,7 +217,7 @@ def test_the_launched_system_takes_manip_cs_through_the_states_of_the_model(buil
 
 def latest_value_built(folder: Path) -> Path:
     """The known-bad variant's workspace (tests/support/known_bad.py), built (once per content:
-    tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    tests/test_campaign_builds.py builds it among the parallel tests)."""
     ws = folder / "ws"
     shutil.copytree(USER, ws / "src" / "user")
     run(sys.executable, "-m", "earl_m2t", "gen", known_bad.one_shot_into_latest_value(folder / "model"),

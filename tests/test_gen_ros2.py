@@ -53,13 +53,25 @@ def gen(out: Path, *flags: str) -> str:
     return result.stdout
 
 
+def sample_workspace(ws: Path) -> str:
+    """Makes ``ws`` a colcon workspace whose src/ is gen's output, the sample's user code copied
+    into src/user/ first; gen's output."""
+    shutil.copytree(USER, ws / "src" / "user")
+    return gen(ws / "src")
+
+
+def sample_built(jazzy: ros2.Installation, ws: Path) -> Path:
+    """The sample's workspace built, once per content: tests/test_campaign_builds.py builds it
+    among the parallel tests."""
+    sample_workspace(ws)
+    return jazzy.colcon_build(ws)
+
+
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
-    """(a colcon workspace whose src/ is gen's output, gen's output): the sample's user code
-    copied into src/user/ first."""
+    """(a colcon workspace whose src/ is gen's output, gen's output)."""
     ws = tmp_path_factory.mktemp("ros2_ws")
-    shutil.copytree(USER, ws / "src" / "user")
-    return ws, gen(ws / "src")
+    return ws, sample_workspace(ws)
 
 
 def launch_agents(src: Path) -> list[tuple[str, str, str, list[tuple[str, str, str, str, list[tuple[str, str]]]]]]:
@@ -307,7 +319,7 @@ def test_launches_under_load_take_manip_cs_through_the_states_of_the_model(
 
 def latest_value_built(jazzy: ros2.Installation, folder: Path) -> Path:
     """The known-bad variant's workspace (tests/support/known_bad.py), built (once per content:
-    tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    tests/test_campaign_builds.py builds it among the parallel tests)."""
     ws = folder / "ws"
     shutil.copytree(USER, ws / "src" / "user")
     model = known_bad.one_shot_into_latest_value(folder / "model")

@@ -25,15 +25,19 @@ import pytest
 from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
-from tests.support.switch_checks import SWITCH, Harmoniser, latencies_ms, latency_summary, switches, undelivered
+from tests.support.switch_checks import (
+    SWITCH,
+    Harmoniser,
+    latencies_ms,
+    latency_summary,
+    restarted_harmoniser,
+    switches,
+    undelivered,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
-SAMPLE_SYSML = SAMPLE.with_suffix(".sysml")
 USER = SAMPLE.parent / "user"
-# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
-GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
-                 "            part cs : GuideControl;\n")
 CYCLES = 230
 CAMPAIGN = "cpp harmoniser"  # tests/support/campaigns.toml
 LOADED_RUNS = loaded_runs(CAMPAIGN)
@@ -76,11 +80,7 @@ def test_the_resumed_guide_agent_goes_on_from_its_state_and_memory(trace: list[s
 
 
 def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path) -> None:
-    text = SAMPLE_SYSML.read_text(encoding="utf-8")
-    assert text.count(GUIDE_RESUMES) == 1
-    restarted = tmp_path / "harmoniser.sysml"
-    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
-    lines = run(build(restarted, tmp_path), "--cycles", str(CYCLES)).splitlines()
+    lines = run(build(restarted_harmoniser(tmp_path / "model"), tmp_path), "--cycles", str(CYCLES)).splitlines()
     assert Harmoniser.first_waypoint_back(lines) == 1
     with pytest.raises(AssertionError):
         assert_resumed(lines)

@@ -38,7 +38,7 @@ from tests.support import orocos
 from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
-from tests.support.switch_checks import TwoArm, forced_switches, forced_two_arm
+from tests.support.switch_checks import TwoArm, forced_switches, forced_two_arm, restarted_harmoniser
 from tests.support.switch_checks_orocos import (
     HARMONISER_SWITCHES,
     LEAD,
@@ -55,9 +55,6 @@ from tests.support.switch_checks_orocos import (
 ROOT = Path(__file__).resolve().parents[1]
 TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
 HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
-# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
-GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
-                 "            part cs : GuideControl;\n")
 TWO_ARM_CAMPAIGN, HARMONISER_CAMPAIGN = "orocos two_arm", "orocos harmoniser"  # tests/support/campaigns.toml
 TWO_ARM_RUNS = loaded_runs(TWO_ARM_CAMPAIGN)
 HARMONISER_RUNS = loaded_runs(HARMONISER_CAMPAIGN)
@@ -80,11 +77,12 @@ def rtt() -> orocos.Installation:
         pytest.fail(str(reason), pytrace=False)
 
 
-def generate(model: Path, user: Path, folder: Path) -> Path:
-    """gen --target orocos over the sample's user code ``user`` copied into ``folder``."""
+def generate(model: Path, user: Path, folder: Path, *options: str) -> Path:
+    """gen --target orocos (gen's ``options`` added) over the sample's user code ``user`` copied
+    into ``folder``."""
     shutil.copytree(user, folder / "user")
     result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "orocos", "-o",
-                             str(folder)], cwd=ROOT, capture_output=True, text=True, timeout=120)
+                             str(folder), *options], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert not [line for line in result.stdout.splitlines() if line.startswith(("created ", "orphaned "))]
     return folder
@@ -95,6 +93,24 @@ def install(out: Path, rtt: orocos.Installation, *flags: str) -> Path:
     project = orocos.built_project(out, rtt, *flags)
     assert "warning:" not in (project / "build.log").read_text()
     return project / "install"
+
+
+def installed(model: Path, rtt: orocos.Installation, folder: Path, *options: str) -> tuple[Path, Path]:
+    """(gen's output, the install prefix) of ``model`` over its user code beside it, built once per
+    content: tests/test_campaign_builds.py builds each model of this module among the parallel
+    tests, so the loaded phase and this module's worker find them built."""
+    out = generate(model, model.parent / "user", folder, *options)
+    return out, install(out, rtt)
+
+
+def forced_installed(rtt: orocos.Installation, folder: Path) -> tuple[Path, Path]:
+    """two_arm with switchTimeout = 0.001 (every switch forced), generated with --force."""
+    return installed(forced_two_arm(folder / "model"), rtt, folder / "out", "--force")
+
+
+def restarted_installed(rtt: orocos.Installation, folder: Path) -> tuple[Path, Path]:
+    """The harmoniser with guide/a restarted instead of resumed."""
+    return installed(restarted_harmoniser(folder / "model"), rtt, folder / "out")
 
 
 def deployment(out: Path, folder: Path) -> Path:
@@ -192,13 +208,8 @@ def test_forced_switches_name_every_command_they_lose(rtt: orocos.Installation, 
     """two_arm with switchTimeout = 0.001 (below a master's 2 ms period): the switches are forced,
     and every command is taken or named undelivered by the manipulator's master (the one it had
     taken and not yet processed too), the coordinator's counts adding up."""
-    model = forced_two_arm(tmp_path / "model")
-    out = tmp_path / "out"
-    shutil.copytree(model.parent / "user", out / "user")
-    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(model), "--target", "orocos", "-o",
-                             str(out), "--force"], cwd=ROOT, capture_output=True, text=True, timeout=120)
-    assert result.returncode == 0, result.stderr
-    deployer = Deployer(deployment(out, tmp_path / "deploy"), install(out, rtt), rtt)
+    out, prefix = forced_installed(rtt, tmp_path / "forced")
+    deployer = Deployer(deployment(out, tmp_path / "deploy"), prefix, rtt)
     lines, _ = deployer.run(lambda seen: two_arm_finished(seen, "task_a_cs"))
     assert forced_switches(lines) > 0, lines[-20:]
     assert TwoArm.unreconciled(lines) == [], lines[-20:]
@@ -222,8 +233,8 @@ def test_harmoniser_deployments_under_load_resume_the_guide_agent(
         tmp_path_factory: pytest.TempPathFactory, rtt: orocos.Installation,
         harmoniser_cpp_switches: list[tuple[str, str]], tmp_path: Path) -> None:
     assert harmoniser_cpp_switches == HARMONISER_SWITCHES
-    out = generate(HARMONISER, HARMONISER.parent / "user", tmp_path_factory.mktemp("harmoniser_orocos"))
-    deployer = Deployer(deployment(out, tmp_path / "deploy_2ms"), install(out, rtt), rtt)
+    out, prefix = installed(HARMONISER, rtt, tmp_path_factory.mktemp("harmoniser_orocos"))
+    deployer = Deployer(deployment(out, tmp_path / "deploy_2ms"), prefix, rtt)
     failures, latencies = [], []
     with cpu_hogs():
         for attempt in range(1, HARMONISER_RUNS + 1):
@@ -244,12 +255,8 @@ def test_harmoniser_deployments_under_load_resume_the_guide_agent(
 
 
 def test_a_restarted_guide_agent_fails_the_checks(tmp_path: Path, rtt: orocos.Installation) -> None:
-    text = HARMONISER.with_suffix(".sysml").read_text(encoding="utf-8")
-    assert text.count(GUIDE_RESUMES) == 1
-    restarted = tmp_path / "harmoniser.sysml"
-    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
-    out = generate(restarted, HARMONISER.parent / "user", tmp_path / "out")
-    deployer = Deployer(deployment(out, tmp_path / "deploy_2ms"), install(out, rtt), rtt)
+    out, prefix = restarted_installed(rtt, tmp_path / "restarted")
+    deployer = Deployer(deployment(out, tmp_path / "deploy_2ms"), prefix, rtt)
     lines, found = deployer.run(harmoniser_finished)
     assert not found and switches(lines) == HARMONISER_SWITCHES, found
     assert next(m for m in map(LEAD.match, lines[resume_index(lines):]) if m).group(1) == "1"

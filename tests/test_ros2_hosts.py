@@ -343,7 +343,7 @@ def run_across_hosts(arm: Host, hand: Host, env: dict[str, str], folder: Path,
 
 def latest_value_built(jazzy: ros2.Installation, folder: Path) -> Path:
     """The known-bad variant's workspace with the hosts (tests/support/known_bad.py), built (once
-    per content: tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    per content: tests/test_campaign_builds.py builds it among the parallel tests)."""
     ws = folder / "ws"
     model = known_bad.one_shot_into_latest_value(folder / "model", with_hosts(SAMPLE.read_text(encoding="utf-8")))
     shutil.copytree(USER, ws / "src" / "user")

@@ -51,6 +51,7 @@ from tests.support.switch_checks import (
     latencies_ms,
     latency_summary,
     notable,
+    restarted_harmoniser,
     switch_timeouts_ms,
     switches,
     undelivered,
@@ -61,9 +62,6 @@ ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.xdist_group("ros2")
 TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
 HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
-# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
-GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
-                 "            part cs : GuideControl;\n")
 # the loaded campaigns (tests/support/campaigns.toml), composed or a process per node
 TWO_ARM_CAMPAIGNS = {"true": "ros2 two_arm", "false": "ros2 two_arm processes"}
 HARMONISER_CAMPAIGNS = {"true": "ros2 harmoniser", "false": "ros2 harmoniser processes"}
@@ -171,23 +169,45 @@ def build(jazzy: ros2.Installation, ws: Path, *cmake_flags: str) -> Path:
 
 def undrained_built(jazzy: ros2.Installation, ws: Path) -> Path:
     """two_arm built with the drain skipped (test-only), the known-bad variant of its campaigns
-    (built once per content: tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    (built once per content: tests/test_campaign_builds.py builds it among the parallel tests)."""
     gen(TWO_ARM, ws)
     return build(jazzy, ws, "-DEARL_SWITCH_DRAIN=0")
 
 
-@pytest.fixture(scope="module")
-def two_arm(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
-    ws = tmp_path_factory.mktemp("two_arm_ros2_ws")
+# The workspaces this module launches, each built once per content: tests/test_campaign_builds.py
+# builds them among the parallel tests, so the loaded phase and this module's worker find them built.
+
+def two_arm_built(jazzy: ros2.Installation, ws: Path) -> Path:
     gen(TWO_ARM, ws)
     return build(jazzy, ws)
 
 
-@pytest.fixture(scope="module")
-def harmoniser(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
-    ws = tmp_path_factory.mktemp("harmoniser_ros2_ws")
+def harmoniser_built(jazzy: ros2.Installation, ws: Path) -> Path:
     gen(HARMONISER, ws)
     return build(jazzy, ws)
+
+
+def forced_built(jazzy: ros2.Installation, folder: Path) -> Path:
+    """two_arm with switchTimeout = 0.001 (every switch forced), generated with --force."""
+    model = forced_two_arm(folder / "model")
+    gen(model, folder / "ws", None, "--force")
+    return build(jazzy, folder / "ws")
+
+
+def restarted_built(jazzy: ros2.Installation, folder: Path) -> Path:
+    """The harmoniser with guide/a restarted instead of resumed."""
+    gen(restarted_harmoniser(folder / "model"), folder / "ws", HARMONISER.parent / "user")
+    return build(jazzy, folder / "ws")
+
+
+@pytest.fixture(scope="module")
+def two_arm(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
+    return two_arm_built(jazzy, tmp_path_factory.mktemp("two_arm_ros2_ws"))
+
+
+@pytest.fixture(scope="module")
+def harmoniser(tmp_path_factory: pytest.TempPathFactory, jazzy: ros2.Installation) -> Path:
+    return harmoniser_built(jazzy, tmp_path_factory.mktemp("harmoniser_ros2_ws"))
 
 
 def launch(ws: Path, jazzy: ros2.Installation, folder: Path, seen: Callable[[Lines], bool], composed: str = "true"
@@ -275,10 +295,8 @@ def test_forced_switches_name_every_command_they_lose(
     """two_arm with switchTimeout = 0.001: the switches are forced, and every command is taken
     or named undelivered by the manipulator's node (the one it had taken and not yet processed
     too), the coordinator's counts adding up."""
-    model = forced_two_arm(tmp_path_factory.mktemp("two_arm_forced"))
-    ws = tmp_path_factory.mktemp("two_arm_forced_ros2_ws")
-    gen(model, ws, None, "--force")
-    lines, reached, _ = launch(build(jazzy, ws), jazzy, tmp_path, TwoArm.finished)
+    ws = forced_built(jazzy, tmp_path_factory.mktemp("two_arm_forced"))
+    lines, reached, _ = launch(ws, jazzy, tmp_path, TwoArm.finished)
     assert reached, notable(lines)
     assert forced_switches(lines) > 0, notable(lines)
     assert TwoArm.unreconciled(lines) == [], notable(lines)
@@ -336,12 +354,7 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
 def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_checks(
         jazzy: ros2.Installation, harmoniser_switches: list[tuple[str, str]], tmp_path: Path) -> None:
     """The harmoniser generated from the model with guide/a restarted instead of resumed, and built."""
-    text = HARMONISER.with_suffix(".sysml").read_text(encoding="utf-8")
-    assert text.count(GUIDE_RESUMES) == 1
-    restarted = tmp_path / "harmoniser.sysml"
-    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
-    gen(restarted, tmp_path / "ws", user=HARMONISER.parent / "user")
-    ws = build(jazzy, tmp_path / "ws")
+    ws = restarted_built(jazzy, tmp_path / "restarted")
     lines, reached, _ = launch(ws, jazzy, tmp_path, back_in_guiding)
     assert reached and switches(lines) == harmoniser_switches and not undelivered(lines), notable(lines)
     assert Harmoniser.first_waypoint_back(lines) == 1

@@ -54,6 +54,7 @@ from tests.support.switch_checks import (
     latencies_ms,
     latency_summary,
     notable,
+    restarted_harmoniser,
     switch_timeouts_ms,
     switches,
     undelivered,
@@ -62,9 +63,6 @@ from tests.support.switch_checks import (
 ROOT = Path(__file__).resolve().parents[1]
 TWO_ARM = ROOT / "samples" / "two_arm" / "two_arm.uml"
 HARMONISER = ROOT / "samples" / "harmoniser" / "harmoniser.uml"
-# GuideAgent's tag reactivation = resume, and the line after it, in the SysML v2 file
-GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
-                 "            part cs : GuideControl;\n")
 TWO_ARM_CAMPAIGN, HARMONISER_CAMPAIGN = "ros two_arm", "ros harmoniser"  # tests/support/campaigns.toml
 TWO_ARM_RUNS = loaded_runs(TWO_ARM_CAMPAIGN)
 HARMONISER_RUNS = loaded_runs(HARMONISER_CAMPAIGN)
@@ -95,8 +93,21 @@ def workspace(folder: Path, model: Path, *flags: str) -> Path:
 
 def undrained_built(folder: Path) -> Path:
     """two_arm built with the drain skipped (test-only), the known-bad variant of its campaign
-    (built once per content: tests/test_known_bad_builds.py builds it among the parallel tests)."""
+    (built once per content: tests/test_campaign_builds.py builds it among the parallel tests)."""
     return workspace(folder, TWO_ARM, "-DCMAKE_CXX_FLAGS=-DEARL_SWITCH_DRAIN=0")
+
+
+def forced_built(folder: Path) -> Path:
+    """two_arm with switchTimeout = 0.001 (every switch forced), generated with --force and built
+    (once per content: tests/test_campaign_builds.py builds it among the parallel tests)."""
+    model = forced_two_arm(folder / "model")
+    generate(model, model.parent / "user", folder / "ws", "--force")
+    return catkin_make(folder / "ws")
+
+
+def restarted_built(folder: Path) -> Path:
+    """The harmoniser with guide/a restarted instead of resumed, built (once per content)."""
+    return workspace(folder / "ws", restarted_harmoniser(folder / "model"))
 
 
 @pytest.fixture(scope="module")
@@ -241,10 +252,7 @@ def test_forced_switches_name_every_command_they_lose(
     """two_arm with switchTimeout = 0.001: the switches are forced, and every command is taken
     or named undelivered by the manipulator's node (the one it had taken and not yet processed
     too), the coordinator's counts adding up."""
-    model = forced_two_arm(tmp_path_factory.mktemp("two_arm_forced"))
-    ws = tmp_path_factory.mktemp("two_arm_forced_ws")
-    generate(model, model.parent / "user", ws, "--force")
-    lines, reached, _ = launch(catkin_make(ws), core, TwoArm.finished)
+    lines, reached, _ = launch(forced_built(tmp_path_factory.mktemp("two_arm_forced")), core, TwoArm.finished)
     assert reached, notable(lines)
     assert forced_switches(lines) > 0, notable(lines)
     assert TwoArm.unreconciled(lines) == [], notable(lines)
@@ -299,14 +307,7 @@ def test_harmoniser_launches_under_load_resume_the_guide_agent(
 @launched
 def test_a_restarted_guide_agent_starts_from_the_initial_state_and_fails_the_checks(
         tmp_path_factory: pytest.TempPathFactory, core: tuple[Path, int, xmlrpc.client.ServerProxy]) -> None:
-    folder = tmp_path_factory.mktemp("harmoniser_restarted")
-    text = HARMONISER.with_suffix(".sysml").read_text(encoding="utf-8")
-    assert text.count(GUIDE_RESUMES) == 1
-    restarted = folder / "harmoniser.sysml"
-    restarted.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
-    ws = folder / "ws"
-    generate(restarted, HARMONISER.parent / "user", ws)
-    ws = catkin_make(ws)
+    ws = restarted_built(tmp_path_factory.mktemp("harmoniser_restarted"))
     lines, reached, _ = launch(ws, core, back_in_guiding)
     assert reached and switches(lines) == Harmoniser.SWITCHES and not undelivered(lines)
     assert Harmoniser.first_waypoint_back(lines) == 1

@@ -45,6 +45,24 @@ def notable(lines: list[str]) -> str:
 
 # ------------------------------------------------------------------ two_arm
 
+# GuideAgent's tag reactivation = resume, and the line after it, in the harmoniser's SysML v2 file
+GUIDE_RESUMES = ("            @AgentReactivation { reactivation = Reactivation::resume; }\n"
+                 "            part cs : GuideControl;\n")
+
+
+def restarted_harmoniser(folder: Path) -> Path:
+    """samples/harmoniser (its SysML v2 file) with guide/a restarted instead of resumed, in
+    ``folder``, its user code beside it: the known-bad variant of the harmoniser campaigns."""
+    sample = Path(__file__).resolve().parents[2] / "samples" / "harmoniser"
+    text = (sample / "harmoniser.sysml").read_text(encoding="utf-8")
+    assert text.count(GUIDE_RESUMES) == 1
+    folder.mkdir(parents=True, exist_ok=True)
+    model = folder / "harmoniser.sysml"
+    model.write_text(text.replace(GUIDE_RESUMES, "            part cs : GuideControl;\n"), encoding="utf-8")
+    shutil.copytree(sample / "user", folder / "user")
+    return model
+
+
 def forced_two_arm(folder: Path) -> Path:
     """samples/two_arm (its SysML v2 file) with switchTimeout = 0.001 in ``folder``, its user code
     beside it: one millisecond, a coordinator cycle, forces every switch. gen needs --force
