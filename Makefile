@@ -39,7 +39,7 @@ SUITE_RUNS ?= suite
 CAMPAIGN_RUNS ?= full
 CAMPAIGNS := tests/test_sample_runs.py tests/test_two_arm_runs.py tests/test_harmoniser_runs.py tests/test_gen_ros2.py \
 	tests/test_gen_ros.py tests/test_gen_orocos.py tests/test_ros_switch_runs.py tests/test_orocos_switch_runs.py \
-	tests/test_ros2_hosts.py tests/test_ros2_switch_runs.py
+	tests/test_ros2_hosts.py tests/test_ros2_switch_runs.py tests/test_differential_switching.py
 # Two phases: the tests that are not loaded on every core at once (pytest-xdist; each module on
 # one worker, the ROS 2 modules on one worker together), then the loaded ones (a CPU hog per core)
 # one at a time. Both write JUnit XML, from which tests/support/suite_time.py prints where the time

@@ -135,8 +135,10 @@ def test_the_choices_named_in_the_command_line_are_those_of_the_implementations(
     from earl_m2t.read.dialects import dialect_table
     from earl_m2t.render.diagnostics import FORMATS as CHECK_FORMATS
     from earl_m2t.verify.render import RENDERERS
+    from earl_m2t.verify.run import CHECK_CODES
 
     assert tuple(sorted(CHECK_FORMATS)) == check.OUTPUT_FORMATS
     assert tuple(RENDERERS) == verify.OUTPUT_FORMATS
+    assert tuple(sorted(CHECK_CODES)) == verify.CHECK_CODES
     assert dialect_names() == dialect_table().names
     assert profile_formats() == PROFILE_FORMATS

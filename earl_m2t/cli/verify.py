@@ -23,6 +23,8 @@ EXIT_NOT_PROVEN = 3
 # The keys of earl_m2t.verify.render.RENDERERS, named here so that the parser is built without
 # importing the verifier (a test keeps the two equal).
 OUTPUT_FORMATS = ("text", "json", "sarif", "github")
+# The codes of earl_m2t.verify.run.CHECK_CODES, for the same reason (the same test).
+CHECK_CODES = ("V001", "V002", "V003", "V004", "V005", "V006", "V007", "V008")
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -40,6 +42,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                              "also config@NAME, switching and agent@active "
                              "('[] (config@useB -> !manipA/a@active)') "
                              "(repeatable; the model's own properties are checked too)")
+    parser.add_argument("--check", action="append", default=[], metavar="CODE", choices=CHECK_CODES,
+                        help="decide only this check (V001-V008, repeatable; default every one), e.g. "
+                             "'--check V006' for the switches' losses alone")
     add_dialect_option(parser)
     add_profile_files_option(parser)
     add_config_options(parser)
@@ -84,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         for prop in properties:
             tokens(prop, model)  # a syntax error or unknown state: one line before SPIN runs
-        result = verify_model(model, VerifyOptions(args.depth, args.timeout, properties))
+        result = verify_model(model, VerifyOptions(args.depth, args.timeout, properties, frozenset(args.check)))
     except LtlError as exc:
         print(f"earl-m2t: verify: {exc}", file=sys.stderr)
         return 2

@@ -30,11 +30,22 @@ SWITCH_LOSES, SWITCH_TIMES_OUT, SWITCH_OVERLAPS = "V006", "V007", "V008"
 _MARKS = re.compile(rf"{OUTCOME_MARK} (\d+) (\d+) (\d+)|{SWITCH_MARK} (\w+)([^\n]*)")
 
 
+# the checks each search decides: every one runs unless VerifyOptions.checks leaves all its codes out
+REACHABILITY_CHECKS = frozenset({UNREACHABLE, NEVER_ENDS, NO_WAY_OUT})
+CHECK_CODES = (UNREACHABLE, DEADLOCK, NEVER_ENDS, NO_WAY_OUT, LTL_VIOLATED, SWITCH_LOSES, SWITCH_TIMES_OUT,
+               SWITCH_OVERLAPS)
+
+
 @dataclass(frozen=True, slots=True)
 class VerifyOptions:
     depth: int = 100_000
     timeout: float = 120.0
     properties: tuple[LtlProperty, ...] = ()
+    checks: frozenset[str] = frozenset()  # the codes to decide (CHECK_CODES); empty: all of them
+
+    def runs(self, *codes: str) -> bool:
+        """Whether a search deciding ``codes`` is to run."""
+        return not self.checks or any(code in self.checks for code in codes)
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,11 +92,13 @@ def verify_model(model: EarlModel, options: VerifyOptions) -> VerifyResult:
     with tempfile.TemporaryDirectory(prefix="earl-verify-") as name:
         folder = Path(name)
         try:
-            _reachability(spec, folder, options, left, result)
-            _deadlock(spec, folder, options, left, result)
+            if options.runs(*REACHABILITY_CHECKS):
+                _reachability(spec, folder, options, left, result)
+            if options.runs(DEADLOCK):
+                _deadlock(spec, folder, options, left, result)
             if spec.reconfiguration is not None:
                 _switches(model, spec.reconfiguration, folder, options, left, result)
-            for prop in options.properties:
+            for prop in options.properties if options.runs(LTL_VIOLATED) else ():
                 _ltl(model, prop, folder, options, left, result)
         except spin.OutOfTime as exc:
             result.not_proven.append(f"the time limit of {options.timeout:g} s ran out in {exc}")
@@ -190,6 +203,8 @@ def _switches(model: EarlModel, rc: Reconfiguration, folder: Path, options: Veri
         SWITCH_OVERLAPS: f"exclusivity: agents that share no configuration never run together ({together})",
     }
     for code, claim, what in _SWITCH_CHECKS:
+        if not options.runs(code):
+            continue
         if code == SWITCH_TIMES_OUT and any(f.code == SWITCH_LOSES for f in result.findings):
             continue  # a switch that loses values is one its timeout ended
         claimed = translate(model, (), claim)
