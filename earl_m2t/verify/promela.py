@@ -127,7 +127,7 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
         observed = tuple(w for w in watched.values() if w.subsystem == sub.path)
         outcomes, leaving = _outcomes(model, sub, observed, rc)
         info = ProcessInfo(sub, f"st{len(spec.processes)}", fsm.states, outcomes, observed, leaving)
-        body = _process_body(info, tracked, senders, len(spec.processes), rc)
+        body = _process_body(info, tracked, senders, len(spec.processes), rc, paused_while_switching=bool(claim))
         if not any(isinstance(item, tuple) for item in body):
             spec.skipped.append((sub, "its iterations change nothing the properties observe"))
             spec.static.append(info)
@@ -281,7 +281,13 @@ def _senders(model: EarlModel) -> dict[str, list[Link]]:
 
 
 def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders: dict[str, list[Link]],
-                  number: int, rc: Reconfiguration | None = None) -> list[str | tuple[str, Step]]:
+                  number: int, rc: Reconfiguration | None = None,
+                  paused_while_switching: bool = False) -> list[str | tuple[str, Step]]:
+    """The steps of a subsystem's process. With ``paused_while_switching`` (the searches of the
+    switch checks) only the leaving agents iterate while a switch is pending: nothing the others
+    do reaches a leaving agent (its links are closed at their senders), and an agent that stays
+    and can always iterate would otherwise keep Promela's ``timeout``, the switch timeout, from
+    ever firing, which would hide a leaving agent stuck with values it never takes."""
     sub = info.subsystem
     body: list[str | tuple[str, Step]] = []
     index = {s.name: i for i, s in enumerate(info.states)}
@@ -289,6 +295,8 @@ def _process_body(info: ProcessInfo, tracked: dict[str, TrackedBuffer], senders:
     coordinating = rc is not None and rc.coordinator is sub
     # a variable agent's subsystem iterates while it runs; the coordinator not during a switch
     before = (f"{agent.active} && " if agent else "") + ("!switching && " if coordinating else "")
+    if rc is not None and paused_while_switching and not coordinating:
+        before += f"(!switching || {agent.leaving}) && " if agent else "!switching && "
     for i, (state, so) in enumerate(zip(info.states, info.outcomes)):
         waits = [tracked[b.path] for b in waits_forever(sub, state)]
         received = _received(sub, state, tracked)
