@@ -1,8 +1,8 @@
 """verify against the generated C++ on drawn variable-structure models (tests/support/random_switching.py).
 
 For each drawn model, ``verify`` (the real SPIN) decides V006, "a switch can lose values", and
-the model's generated C++ runs: deterministically with several seeds of its user code's coins
-(each seed another schedule of the model's choices) and threaded on the clock. The two must
+the model's generated C++ runs: deterministically with several seeds, each drawing its user
+code's coins and the order of the subsystems' steps (``--schedule``), and threaded on the clock. The two must
 agree:
 
 * where verify proves "no switch loses values", no run reports a value undelivered at a switch;
@@ -44,7 +44,7 @@ from tests.support.random_switching import DrawnModel, draw, write
 
 CAMPAIGN = "differential switching"  # tests/support/campaigns.toml
 SHARDS = 4
-SEEDS = 4  # deterministic runs per model, each with its own coins
+SEEDS = 8  # deterministic runs per model: seed N draws the coins and the schedule (--schedule N; 0 model order)
 CYCLES = 3000  # enough for every hand-over and a forced switch (200 cycles) after each
 THREADED_SECONDS = 2.0
 FIRST_SEED = 1000  # the drawn models are seeds FIRST_SEED, FIRST_SEED + 1, ...
@@ -137,12 +137,12 @@ def parse(label: str, output: str) -> Run:
 
 
 def runs(binary: Path) -> list[Run]:
-    """The deterministic runs, one per seed, then a threaded one."""
+    """The deterministic runs, one per seed (its coins and its schedule), then a threaded one."""
     found = []
     for seed in range(SEEDS):
         env = {**os.environ, "EARL_DIFF_SEED": str(seed)}
-        out = subprocess.run([str(binary), "--cycles", str(CYCLES)], capture_output=True, text=True, env=env,
-                             timeout=120, check=True).stdout
+        out = subprocess.run([str(binary), "--cycles", str(CYCLES), "--schedule", str(seed)], capture_output=True,
+                             text=True, env=env, timeout=120, check=True).stdout
         found.append(parse(f"deterministic, seed {seed}", out))
     out = subprocess.run([str(binary), "--threaded", str(THREADED_SECONDS)], capture_output=True, text=True,
                          env={**os.environ, "EARL_DIFF_SEED": "7"}, timeout=120, check=True).stdout

@@ -105,7 +105,9 @@ def test_every_agent_has_its_own_executor_and_the_system_runs_threaded(built: tu
 @needs_toolchain
 @pytest.mark.parametrize("arguments", [("--cycles", "-1"), ("--cycles", "1.5"), ("--cycles", "99999999999999999999"),
                                        ("--threaded", "inf"), ("--threaded", "1e300"), ("--threaded", "-1"),
-                                       ("--threaded", "nan"), ("--threaded", "0"), ("--threaded", "2s")])
+                                       ("--threaded", "nan"), ("--threaded", "0"), ("--threaded", "2s"),
+                                       ("--schedule", "-1"), ("--schedule", "1e3"),
+                                       ("--schedule", "9999999999999999999")])
 def test_the_executables_refuse_what_is_no_count_or_time(built: tuple[Path, Path], arguments: tuple[str, str]) -> None:
     """A value that is not what it says is the usage line and exit 2, never another run (a
     wrapped cycle count, a deterministic run for a threaded one, a sleep of inf)."""
@@ -114,6 +116,24 @@ def test_the_executables_refuse_what_is_no_count_or_time(built: tuple[Path, Path
                             text=True, timeout=30)
     assert result.returncode == 2 and result.stderr.startswith("usage: "), (result.stdout, result.stderr)
     assert result.stdout == ""
+
+
+@needs_toolchain
+def test_a_drawn_schedule_is_one_run_per_seed(built: tuple[Path, Path]) -> None:
+    """--schedule SEED steps the subsystems in an order drawn from SEED (each left out of a cycle
+    now and then): the same seed is the same run, seed 0 is the default run in model order, and
+    another seed is another interleaving of the same system."""
+    _, build = built
+    system = build / "PickAndPlace_system"
+    default = run(system, "--cycles", "300").stdout
+    assert run(system, "--cycles", "300", "--schedule", "0").stdout == default
+    drawn = run(system, "--cycles", "300", "--schedule", "7").stdout
+    assert drawn == run(system, "--cycles", "300", "--schedule", "7").stdout
+    assert drawn != default
+    assert "step 0 manip/a.cs: start in idle" in drawn.splitlines() and drawn.endswith("for 300 cycles\n")
+    refused = subprocess.run([str(system), "--threaded", "0.05", "--schedule", "7"], capture_output=True, text=True,
+                             timeout=30)
+    assert refused.returncode == 2 and "--schedule is for the deterministic cycles" in refused.stderr
 
 
 @needs_toolchain

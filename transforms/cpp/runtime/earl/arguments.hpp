@@ -28,6 +28,20 @@ inline bool parseCycles(const char* text, std::uint64_t& cycles) noexcept {
   return true;
 }
 
+/// The seed of a deterministic run's schedule (earl/schedule.hpp): a whole number from 0 to
+/// 10^18 (decimal digits only).
+inline bool parseSeed(const char* text, std::uint64_t& seed) noexcept {
+  if (text == nullptr || *text == '\0') return false;
+  std::uint64_t value = 0;
+  for (const char* c = text; *c != '\0'; ++c) {
+    if (*c < '0' || *c > '9') return false;
+    value = value * 10 + static_cast<std::uint64_t>(*c - '0');
+    if (value > 1'000'000'000'000'000'000ULL) return false;
+  }
+  seed = value;
+  return true;
+}
+
 /// Seconds of a threaded run: a finite number greater than 0 and at most 10^6 (eleven days).
 inline bool parseSeconds(const char* text, double& seconds) noexcept {
   if (text == nullptr || *text == '\0') return false;

@@ -6,6 +6,7 @@
 #include "earl/port.hpp"
 #include "earl/realtime.hpp"
 #include "earl/runner.hpp"
+#include "earl/schedule.hpp"
 #include "earl/subsystem.hpp"
 #include "earl/trace.hpp"
 #include "earl/types.hpp"
