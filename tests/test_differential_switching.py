@@ -77,7 +77,9 @@ def verdict(model: Path) -> Verdict:
     finding = next((f for f in result.findings if f.code == SWITCH_LOSES), None)
     if finding is not None:
         switch = LOSS.search(finding.message)
-        stuck = STUCK.search(finding.message)
+        # the agent the lost values were for: the link's receiver, among the agents found stuck
+        receiver = finding.element.split(",")[-1]
+        stuck = next((m for m in STUCK.finditer(finding.message) if m.group(1) == receiver), None)
         return Verdict("loss", (switch.group(1), switch.group(2)) if switch else None, finding.element,
                        f"{stuck.group(1)}@{stuck.group(2)}" if stuck else "")
     if any(line.startswith(PROVEN) for line in result.proven):
@@ -252,10 +254,13 @@ def check(shard: int, folder: Path, judge: Callable[[Path], Verdict], limit: int
 
 @pytest.mark.parametrize("shard", [pytest.param(k, marks=pytest.mark.xdist_group(f"differential {k}"))
                                    for k in range(SHARDS)])
-def test_verify_and_the_generated_code_agree_on_drawn_models(shard: int, tmp_path: Path) -> None:
+def test_verify_and_the_generated_code_agree_on_drawn_models(
+        shard: int, tmp_path: Path, record_property: Callable[[str, object], None]) -> None:
     found, tally = check(shard, tmp_path, verdict)
-    print(f"shard {shard}: {len(models(shard))} models: verify proved {tally['none']}, found a loss in "
-          f"{tally['loss']}, left {tally['open']} open; {len(found)} disagreement(s)")
+    summary = (f"shard {shard}: {len(models(shard))} models: verify proved {tally['none']}, found a loss in "
+               f"{tally['loss']}, left {tally['open']} open; {len(found)} disagreement(s)")
+    record_property("models", summary)  # in the JUnit XML, also from an xdist worker
+    print(summary)
     assert tally["open"] <= len(models(shard)) // 10, tally
     assert not found, "\n\n".join(found)
 
