@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import random
 import shutil
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from itertools import combinations
 from pathlib import Path
 
@@ -88,7 +88,6 @@ class DrawnModel:
     hand_overs: int
     early_one_in: int
     switch_timeout: float = SWITCH_TIMEOUT
-    notes: tuple[str, ...] = field(default=())
 
     @property
     def package(self) -> str:
