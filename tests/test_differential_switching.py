@@ -25,7 +25,6 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from collections import Counter
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -40,6 +39,7 @@ from earl_m2t.verify import promela
 from earl_m2t.verify.run import SWITCH_LOSES, VerifyOptions, verify_model
 from tests.support import build_cache
 from tests.support.campaign import catch_runs, loaded_runs
+from tests.support.cpp_sample import generate_with_user_code
 from tests.support.random_switching import DrawnModel, draw, write
 
 CAMPAIGN = "differential switching"  # tests/support/campaigns.toml
@@ -180,12 +180,7 @@ project(drawn LANGUAGES CXX)
 def generated(model: DrawnModel, folder: Path) -> Path:
     """gen --target cpp of ``model`` over its user code, in ``folder/out``; the model file."""
     path = write(model, folder / "model")
-    out = folder / "out"
-    shutil.copytree(folder / "model" / "user", out / "user")
-    result = subprocess.run([sys.executable, "-m", "earl_m2t", "gen", str(path), "--target", "cpp", "-o", str(out)],
-                            capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, f"gen failed for seed {model.seed}:\n{result.stderr}\n{model.describe()}"
-    assert "created " not in result.stdout, result.stdout  # the drawn user code covers every pf
+    generate_with_user_code(path, folder / "model" / "user", folder / "out")
     return path
 
 

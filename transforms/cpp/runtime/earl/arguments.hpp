@@ -15,31 +15,27 @@
 
 namespace earl {
 
-/// Cycles of a deterministic run: a whole number from 0 to 10^12 (decimal digits only).
-inline bool parseCycles(const char* text, std::uint64_t& cycles) noexcept {
+/// A whole number from 0 to ``limit``, decimal digits only.
+inline bool parseWhole(const char* text, std::uint64_t limit, std::uint64_t& number) noexcept {
   if (text == nullptr || *text == '\0') return false;
   std::uint64_t value = 0;
   for (const char* c = text; *c != '\0'; ++c) {
     if (*c < '0' || *c > '9') return false;
     value = value * 10 + static_cast<std::uint64_t>(*c - '0');
-    if (value > 1'000'000'000'000ULL) return false;
+    if (value > limit) return false;
   }
-  cycles = value;
+  number = value;
   return true;
 }
 
-/// The seed of a deterministic run's schedule (earl/schedule.hpp): a whole number from 0 to
-/// 10^18 (decimal digits only).
+/// Cycles of a deterministic run: a whole number from 0 to 10^12.
+inline bool parseCycles(const char* text, std::uint64_t& cycles) noexcept {
+  return parseWhole(text, 1'000'000'000'000ULL, cycles);
+}
+
+/// The seed of a deterministic run's schedule (earl/schedule.hpp): a whole number from 0 to 10^18.
 inline bool parseSeed(const char* text, std::uint64_t& seed) noexcept {
-  if (text == nullptr || *text == '\0') return false;
-  std::uint64_t value = 0;
-  for (const char* c = text; *c != '\0'; ++c) {
-    if (*c < '0' || *c > '9') return false;
-    value = value * 10 + static_cast<std::uint64_t>(*c - '0');
-    if (value > 1'000'000'000'000'000'000ULL) return false;
-  }
-  seed = value;
-  return true;
+  return parseWhole(text, 1'000'000'000'000'000'000ULL, seed);
 }
 
 /// Seconds of a threaded run: a finite number greater than 0 and at most 10^6 (eleven days).
