@@ -15,7 +15,9 @@ paths): it is built where it is used.
 A build that fails leaves no entry and fails the calling test with its output; the next call
 builds again. Entries are read-only by convention: a test that changes a workspace (regenerates
 it, edits a file) takes a source tree of its own, which is a new key. The most recently used
-:data:`KEEP` entries are kept; older ones are removed when a new entry is written.
+:data:`KEEP` entries are kept; older ones are removed when a new entry is written, except those
+a live test process uses: a process holds a shared lock on every entry it was handed until it
+exits, so an entry a module fixture holds is never pruned under it by the other worker.
 ``EARL_BUILD_CACHE=0`` builds in a fresh temporary folder every time instead.
 """
 
@@ -31,9 +33,12 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import IO
 
 KEEP = 40
 COMPLETE = ".earl-build-complete"
+# shared locks on the entries this process was handed, held until it exits
+_IN_USE: dict[Path, IO[str]] = {}
 SOURCE = "src"
 # files gen writes that no build reads: the source map names the model's absolute path
 IGNORED = frozenset({".earl-trace.json"})
@@ -98,14 +103,36 @@ def built(kind: str, source: Path, build: Callable[[Path], object], recipe: Sequ
         stamp = folder / COMPLETE
         if stamp.is_file():
             os.utime(stamp)
+            _hold(folder)
             return folder
         shutil.rmtree(folder, ignore_errors=True)  # what a build that failed or was killed left
         shutil.copytree(source, folder / SOURCE, symlinks=True)
         started = time.monotonic()
         build(folder)
         stamp.write_text(f"{kind}\n{time.monotonic() - started:.1f} s\n")
+        _hold(folder)
     prune()
     return folder
+
+
+def _use_lock(folder: Path) -> Path:
+    return folder.with_name(folder.name + ".use")
+
+
+def _hold(folder: Path) -> None:
+    """Take a shared lock on ``folder``'s use file and keep it for the life of this process."""
+    if folder in _IN_USE:
+        return
+    handle = open(_use_lock(folder), "a")
+    fcntl.flock(handle, fcntl.LOCK_SH)
+    _IN_USE[folder] = handle
+
+
+def release(folder: Path) -> None:
+    """This process no longer uses ``folder``: a later prune may remove it."""
+    handle = _IN_USE.pop(folder, None)
+    if handle is not None:
+        handle.close()
 
 
 def prune(keep: int = KEEP) -> None:
@@ -116,11 +143,15 @@ def prune(keep: int = KEEP) -> None:
                      key=lambda p: (p / COMPLETE).stat().st_mtime if (p / COMPLETE).is_file() else 0.0,
                      reverse=True)
     for folder in entries[keep:]:
-        lock_path = folder.with_name(folder.name + ".lock")
-        with open(lock_path, "w") as lock:
+        if folder in _IN_USE:
+            continue
+        lock_path, use_path = folder.with_name(folder.name + ".lock"), _use_lock(folder)
+        with open(lock_path, "w") as lock, open(use_path, "a") as use:
             try:
                 fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                fcntl.flock(use, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
-                continue  # being built or read by another process right now
+                continue  # being built, or handed to a test process that is still running
             shutil.rmtree(folder, ignore_errors=True)
         lock_path.unlink(missing_ok=True)
+        use_path.unlink(missing_ok=True)

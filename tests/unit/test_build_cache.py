@@ -1,21 +1,38 @@
 """tests/support/build_cache.py: a build runs once per content, a changed input builds again, a
-failed build leaves nothing that a later call would take for a build."""
+failed build leaves nothing that a later call would take for a build, and an entry a live test
+process was handed is never pruned under it."""
 
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from tests.support import build_cache
 
+ROOT = Path(__file__).resolve().parents[2]
+HOLDER = """
+import sys
+from pathlib import Path
+from tests.support import build_cache
+folder = build_cache.built("cpp-x", Path(sys.argv[1]), lambda f: (f / "built").write_text("held"))
+print(folder, flush=True)
+sys.stdin.readline()
+"""
+
 
 @pytest.fixture(autouse=True)
-def cache_home(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+def cache_home(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     monkeypatch.delenv("EARL_BUILD_CACHE", raising=False)
-    return tmp_path / "cache"
+    monkeypatch.setattr(build_cache, "_IN_USE", {})
+    yield tmp_path / "cache"
+    for folder in list(build_cache._IN_USE):
+        build_cache.release(folder)
 
 
 def source_tree(folder: Path, content: str = "int main() { return 0; }\n") -> Path:
@@ -84,6 +101,7 @@ def test_only_the_most_recently_used_entries_are_kept(tmp_path: Path) -> None:
     folders = [build_cache.built("cpp-x", source_tree(tmp_path / str(n), f"// {n}\n"), build) for n in range(4)]
     for age, folder in enumerate(reversed(folders)):  # the first built is the least recently used
         os.utime(folder / build_cache.COMPLETE, (1_000_000 - age, 1_000_000 - age))
+        build_cache.release(folder)
     build_cache.prune(keep=2)
     assert [folder.is_dir() for folder in folders] == [False, False, True, True]
 
@@ -94,3 +112,27 @@ def test_turned_off_it_builds_in_a_fresh_folder_every_time(tmp_path: Path, monke
     source = source_tree(tmp_path / "a")
     assert build_cache.built("cpp-x", source, build) != build_cache.built("cpp-x", source, build)
     assert len(build.folders) == 2
+
+
+def test_an_entry_a_running_process_holds_survives_every_prune_until_it_exits(tmp_path: Path) -> None:
+    """A module fixture keeps a built folder for all its tests while the other worker writes
+    new entries; the prune those trigger must not remove it."""
+    holder = subprocess.Popen([sys.executable, "-c", HOLDER, str(source_tree(tmp_path / "held"))],
+                              cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, text=True,
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+    try:
+        assert holder.stdout is not None and holder.stdin is not None
+        held = Path(holder.stdout.readline().strip())
+        assert (held / "built").read_text() == "held"
+        mine = build_cache.built("cpp-x", source_tree(tmp_path / "mine", "// mine\n"), CountingBuild())
+        build_cache.prune(keep=0)
+        assert (held / "built").is_file(), "pruned while the process it was handed to still runs"
+        assert (mine / "built").is_file(), "pruned while this process holds it"
+        holder.stdin.write("\n")
+        holder.stdin.flush()
+        assert holder.wait(timeout=30) == 0
+    finally:
+        holder.kill()
+    build_cache.release(mine)
+    build_cache.prune(keep=0)
+    assert not held.exists() and not mine.exists(), "an entry no process holds, beyond KEEP, stays"
