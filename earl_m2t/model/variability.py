@@ -87,12 +87,34 @@ def agent_of(system: System, path: str) -> Agent | None:
     return next((a for a in system.agents if a.path == path), None)
 
 
+def link_agents(system: System, link: Link) -> tuple[str, str]:
+    """The paths of the agents that send and receive ``link`` ("" for an end that is no buffer
+    of an agent of ``system``)."""
+    owner = {buf.path: agent.path for agent in system.agents for sub in agent.subsystems for buf in sub.buffers}
+    return owner.get(link.source, ""), owner.get(link.target, "")
+
+
+def lingers(system: System, link: Link, before: Structure, after: Structure) -> bool:
+    """Whether ``link`` stays open through a switch from ``before`` to ``after`` although
+    ``after`` lacks it: its sender leaves and its receiver stays, so what the leaving agent sends
+    until it stops (its last iterations, a safe-stop command) is delivered. It closes when the
+    sender has stopped. Every other link ``after`` lacks closes when the switch is decided."""
+    if not before.has_link(link.path) or after.has_link(link.path):
+        return False
+    sender, receiver = link_agents(system, link)
+    leaves = before.has_agent(sender) and not after.has_agent(sender)
+    stays = before.has_agent(receiver) and after.has_agent(receiver)
+    return leaves and stays
+
+
 __all__ = [
     "Structure",
     "agent_of",
     "coordinator",
     "coordinators",
     "is_variable",
+    "lingers",
+    "link_agents",
     "present",
     "structures",
     "system_links",
