@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
+TASK_QUEUE = 64  # tiago/a.cs's queue of task commands: 64 periods of a starved robot
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
@@ -117,6 +118,9 @@ def tiago_control(pkg: Package, dt: DataTypes) -> Block:
     """tiago/a.cs: carries out the task agent's commands and raises the fall alarm."""
     cs = pkg.block("TiagoControl", "ControlSubsystem")
     task = cs.input_buffer("taskCommand/ib", dt.task_command)
+    # every command of the task agents is carried out once, in order, those a leaving agent
+    # sends in its last iterations included: they queue (one taken per iteration)
+    task.stereotype("InputBuffer", {"receive": "queue", "queueSize": TASK_QUEUE})
     person = cs.input_buffer("person/ib", dt.person_state)
     base = cs.output_buffer("baseCommand/ob", dt.base_velocity)
     arm = cs.output_buffer("armCommand/ob", dt.joint_position)

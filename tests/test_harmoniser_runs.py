@@ -9,14 +9,19 @@ last one before the fall, its commands' numbers too, and its FSM leaves ``waitin
 the next step of its own count. fallHelp/a, brought in for the first time, starts from its
 initial state.
 
+tiago/a takes every command of the task agents once, in order, those a leaving agent sends in
+its last iterations included (its links to tiago/a, which stays, are open until it stops).
+
 Sensitivity controls: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails the checks
-in a loaded run; the same sample with guide/a restarted instead (its ``reactivation`` tag
+in a loaded run; one that closes a leaving agent's links at the decision
+(``-DEARL_SWITCH_LINGER=0``) loses its last commands, each counted as written while closed; the same sample with guide/a restarted instead (its ``reactivation`` tag
 taken out of the SysML v2 file) leads from the first waypoint again after the fall, which the
 checks of the resumed agent reject.
 """
 
 from __future__ import annotations
 
+import re
 import shutil
 from pathlib import Path
 
@@ -41,6 +46,7 @@ USER = SAMPLE.parent / "user"
 CYCLES = 230
 CAMPAIGN = "cpp harmoniser"  # tests/support/campaigns.toml
 LOADED_RUNS = loaded_runs(CAMPAIGN)
+WRITTEN_CLOSED = re.compile(r"^link (\S+): (\d+) value\(s\) written while closed$")
 THREADED_SECONDS = 0.5  # the fall is at the lidar's 40th scan, the person up at its 160th: 1 ms each
 
 pytestmark = pytest.mark.skipif(shutil.which("g++") is None or shutil.which("cmake") is None,
@@ -94,6 +100,30 @@ def test_the_fall_help_agent_starts_from_its_initial_state(trace: list[str]) -> 
 
 def test_the_stepped_run_passes_the_checks_of_every_runtime(trace: list[str]) -> None:
     assert Harmoniser.problems(trace) == []
+
+
+def test_tiago_takes_what_a_leaving_agent_sends_in_its_last_iterations(trace: list[str]) -> None:
+    """guide/a leaving, and fallHelp/a, send a park or stand-by command in each iteration until
+    they stop; the links to tiago/a, which stays, are open until then: tiago/a takes every one."""
+    taken = [int(m.group(1)) for m in map(Harmoniser.TOOK.match, trace) if m]
+    last_before_fall = max(int(m.group(1)) for m in map(Harmoniser.PARK.match, trace[:Harmoniser.resumed_at(trace)[0]]) if m)
+    assert last_before_fall in taken and taken.index(last_before_fall) < taken.index(1, 1)
+    assert Harmoniser.commands_not_taken_once(trace) == []
+    assert not [line for line in trace if "written while closed" in line and ",tiago/a:" in line]
+
+
+def test_links_closed_at_the_decision_lose_the_last_sends_and_count_them(tmp_path: Path) -> None:
+    """The closed-gate behaviour of before (test-only ``-DEARL_SWITCH_LINGER=0``: a leaving
+    agent's links to tiago/a close when the switch is decided): its last sends are skipped, which
+    the checks catch, and each one is counted as written while closed, none silently."""
+    lines = run(build(SAMPLE, tmp_path, "-DEARL_SWITCH_LINGER=0"), "--cycles", str(CYCLES)).splitlines()
+    assert Harmoniser.commands_not_taken_once(lines)
+    taken = [int(m.group(1)) for m in map(Harmoniser.TOOK.match, lines) if m]
+    guide_sent = taken[-1]  # guide/a's numbering runs on across the fall, and its last ones are taken
+    fall_help_sent = max(int(m.group(1)) for m in map(Harmoniser.STAND_BY.match, lines) if m)
+    missing = guide_sent + fall_help_sent - len(taken)
+    closed = {m.group(1): int(m.group(2)) for m in map(WRITTEN_CLOSED.match, lines) if m}
+    assert missing > 0 and closed.get("guide/a,tiago/a", 0) + closed.get("fallHelp/a,tiago/a", 0) == missing, lines[-6:]
 
 
 def threaded_run(binary: Path) -> list[str]:

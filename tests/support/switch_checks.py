@@ -175,6 +175,7 @@ class Harmoniser:
     PARK = re.compile(r"^guide/a\.cs: park after command (\d+)$")
     ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+)$")
     STAND_BY = re.compile(r"^fallHelp/a\.cs: stand by after command (\d+)$")
+    TOOK = re.compile(r"^tiago/a\.cs: took command (\d+)$")
     GUIDE_STEP = re.compile(r"^step (\d+) guide/a\.cs: (\w+) -> (\w+) ")
     GUIDE = re.compile(r"^(?:step \d+ )?guide/a\.cs: ")
     GUIDE_START = re.compile(r"^step \d+ guide/a\.cs: start in ")  # its initial state entered
@@ -238,6 +239,7 @@ class Harmoniser:
         found += [f"{m.group(0)}: beyond {cls.TIMEOUT_MS} ms" for m in map(SWITCH.match, lines)
                   if m and m.group(4) == "ms" and float(m.group(3)) > cls.TIMEOUT_MS]
         found += undelivered(lines)
+        found += cls.commands_not_taken_once(lines)
         # fallHelp/a starts from its initial state: it stands by with its first command, and
         # assists (as long as the person lies: none when the switch took that long) from step 1
         stand_by = [int(m.group(1)) for m in map(cls.STAND_BY.match, lines) if m]
@@ -251,6 +253,29 @@ class Harmoniser:
             except (AssertionError, StopIteration, ValueError, IndexError) as error:
                 found.append(f"guide/a did not go on from its state and memory: {error or type(error).__name__}")
         return found
+
+    @classmethod
+    def commands_not_taken_once(cls, lines: list[str]) -> list[str]:
+        """tiago/a takes every command of the task agents once and in order, those a leaving agent
+        sends in its last iterations (its parks, its stand-bys) included: guide/a's 1 … a, then
+        fallHelp/a's 1 … b, its last stand-by, then guide/a's a + 1 on (its numbering resumes;
+        the run may end before the last ones are taken). The lines are tiago/a's own, in its
+        order, whatever process printed the others."""
+        taken = [int(m.group(1)) for m in map(cls.TOOK.match, lines) if m]
+        runs: list[list[int]] = []
+        for seq in taken:
+            if runs and seq == runs[-1][-1] + 1:
+                runs[-1].append(seq)
+            else:
+                runs.append([seq])
+        shown = ", ".join(f"{run[0]}…{run[-1]}" for run in runs)
+        stood_by = [int(m.group(1)) for m in map(cls.STAND_BY.match, lines) if m]
+        if len(runs) != 3 or runs[0][0] != 1 or runs[1][0] != 1 or runs[2][0] != runs[0][-1] + 1:
+            return [f"tiago/a took the task commands {shown}, not guide/a's 1…a, fallHelp/a's 1…b, guide/a's a+1…"]
+        if not stood_by or runs[1][-1] != max(stood_by):
+            return [f"tiago/a took fallHelp/a's commands 1…{runs[1][-1]}, but its last was "
+                    f"{max(stood_by, default=0)} (a stand-by as it left)"]
+        return []
 
     @classmethod
     def first_waypoint_back(cls, trace: list[str]) -> int:

@@ -44,13 +44,17 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
     agent_rows = [{"path": path, "member": by_agent[path]["member"], "slot": slots[path], "name": cpp_string(path),
                    "reactivation": _reactivation(system, path)} for path in agent_paths]
     link_rows = []
+    by_link = {link.path: link for link in variability.system_links(system)}
     for path in link_paths:
-        if path not in links:
+        if path not in links or path not in by_link:
             raise GenError(f"{path}: a configuration names a link the system does not have (rule X001)")
         row = links[path]
         receiver = agent_of.get(row["receiver_subsystem"], "")
+        sender_agent, receiver_agent = variability.link_agents(system, by_link[path])
         link_rows.append({"name": cpp_string(path), "member": row["expression"],
-                          "receiver": f"&{slots[receiver]}" if receiver in slots else "nullptr"})
+                          "receiver": f"&{slots[receiver]}" if receiver in slots else "nullptr",
+                          "sender_index": _agent_index(agent_paths, sender_agent),
+                          "receiver_index": _agent_index(agent_paths, receiver_agent)})
     index: dict[str, int] = {}
     for i, c in enumerate(system.configurations):
         if index.setdefault(c.name, i) != i:  # a state naming it would get the other one's structure
@@ -86,6 +90,8 @@ def switching_view(model: EarlModel, agents: list[Data], links: dict[str, Data],
         "reactivations": ", ".join(f"earl::Reactivation::{row['reactivation']}" for row in agent_rows)
         or "earl::Reactivation::restart",
         "link_names": ", ".join(row["name"] for row in link_rows) or "nullptr",
+        "link_senders": ", ".join(str(row["sender_index"]) for row in link_rows) or "-1",
+        "link_receivers": ", ".join(str(row["receiver_index"]) for row in link_rows) or "-1",
     }
 
 
@@ -105,6 +111,11 @@ def _reactivation(system: System, path: str) -> str:
     if reactivation not in REACTIVATIONS:
         raise GenError(f"{path}: reactivation is {reactivation}, not restart or resume")
     return reactivation
+
+
+def _agent_index(agent_paths: list[str], path: str) -> int:
+    """The index of a variable agent in the tables, -1 for an agent of every configuration."""
+    return agent_paths.index(path) if path in agent_paths else -1
 
 
 def _mask(flags: list[bool]) -> str:

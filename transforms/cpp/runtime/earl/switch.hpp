@@ -4,14 +4,18 @@
 //   0. decide   the coordinator's iteration ends (its sends done under the old structure)
 //               and its next state names another configuration; it does not enter it yet;
 //   1. close    every link of the old configuration that the new one lacks is closed at its
-//               sender (later writes skip it); the agents that leave see leaving() true;
+//               sender (later writes skip it, counted), except a link from an agent that
+//               leaves to one that stays: it stays open until its sender has stopped, so what
+//               a leaving agent sends until then (its last iterations) is delivered; the
+//               agents that leave see leaving() true;
 //   2. drain    a leaving agent stops at an iteration boundary once its control subsystem is
 //               in a quiescent state and every link into it is empty; a receiver that stays
 //               reads a closed link before the others, so nothing is reordered;
 //   3. timeout  past the switch timeout the leaving agents are stopped anyway, and the values
 //               still queued for them are cleared and reported as undelivered, per link;
-//   4. open     the joining agents are restarted or resumed, the new links open, and the
-//               coordinator enters the new state and runs its behaviour.
+//   4. open     the links from the stopped agents close, the joining agents are restarted
+//               or resumed, the new links open, and the coordinator enters the new state and
+//               runs its behaviour.
 //
 // Everything exists from initialisation: every agent of the general model is an object, every
 // link a channel with a gate. A switch allocates nothing and takes no lock (atomics only); it
@@ -42,6 +46,12 @@
 #ifndef EARL_SWITCH_DRAIN
 #define EARL_SWITCH_DRAIN 1
 #endif
+// Test-only: 0 builds a switch that closes a leaving agent's links to the agents that stay at the
+// decision, as every other link (its last sends are then skipped): the tests use it to show that
+// they detect those values.
+#ifndef EARL_SWITCH_LINGER
+#define EARL_SWITCH_LINGER 1
+#endif
 // Test-only: 0 builds a switch that forgets the value an Input Buffer took in a leaving agent's
 // last iteration (the agent may stop before its pfs run on it, and a forced switch does not count
 // it): the tests use it to show that they detect a value lost uncounted.
@@ -55,15 +65,19 @@ namespace earl {
 
 /// The sender-side gate of a variable link. A write enters the gate (counted in flight) and
 /// goes to the channel only while the gate is open; once close() returned and quiet() holds,
-/// no write of before the close can still reach the channel.
+/// no write of before the close can still reach the channel. A write the closed gate refuses
+/// is counted (refused()): a value written on a closed link is never lost silently.
 class Gate {
  public:
   bool enter() noexcept {
     writers_.fetch_add(1, std::memory_order_seq_cst);
     if (open_.load(std::memory_order_seq_cst)) return true;
     writers_.fetch_sub(1, std::memory_order_release);
+    refused_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
+  /// Values written while the gate was closed.
+  std::uint64_t refused() const noexcept { return refused_.load(std::memory_order_relaxed); }
   void leave() noexcept { writers_.fetch_sub(1, std::memory_order_release); }
   void open() noexcept { open_.store(true, std::memory_order_seq_cst); }
   void close() noexcept { open_.store(false, std::memory_order_seq_cst); }
@@ -74,6 +88,7 @@ class Gate {
  private:
   std::atomic<bool> open_{true};
   std::atomic<std::uint32_t> writers_{0};
+  std::atomic<std::uint64_t> refused_{0};
 };
 
 template <class Ch>
@@ -302,6 +317,9 @@ class SwitchObserver : public Observer {
   virtual void undelivered(const char* link, std::uint64_t count) noexcept { (void)link, (void)count; }
   /// One of them, before the count: its seq (-1 when its type has no field seq).
   virtual void undeliveredValue(const char* link, std::int64_t seq) noexcept { (void)link, (void)seq; }
+  /// At the end of a run: ``count`` values were written on ``link`` while it was closed (its
+  /// configuration lacked it), and went nowhere.
+  virtual void writtenClosed(const char* link, std::uint64_t count) noexcept { (void)link, (void)count; }
 };
 
 /// PrintObserver's lines, and one line per switch (`` (forced)`` after it when its timeout
@@ -337,6 +355,9 @@ class SwitchPrintObserver final : public SwitchObserver {
   }
   void undeliveredValue(const char* link, std::int64_t seq) noexcept override {
     if (seq >= 0) std::printf("link %s: seq %" PRId64 " undelivered at switch\n", link, seq);
+  }
+  void writtenClosed(const char* link, std::uint64_t count) noexcept override {
+    std::printf("link %s: %" PRIu64 " value(s) written while closed\n", link, count);
   }
 
  private:
@@ -485,7 +506,8 @@ SwitchLink switchLink(const char* name, VariableLink<Ch>& link, AgentSlot* recei
 }
 
 /// The configurations, as constant tables (generated): which variable agents and which
-/// variable links each holds, row-major, and its switch timeout (ns, for switching into it).
+/// variable links each holds, row-major, its switch timeout (ns, for switching into it), and
+/// the variable agents at the two ends of each variable link.
 struct SwitchTables {
   const char* const* names;
   std::size_t configurations;
@@ -494,6 +516,25 @@ struct SwitchTables {
   const bool* links;  // [configuration * linkCount + link]
   std::size_t linkCount;
   const std::int64_t* timeoutNs;  // [configuration]
+  const std::int16_t* linkSender;    // [link]: the variable agent sending it, -1 for an agent of every configuration
+  const std::int16_t* linkReceiver;  // [link]: the variable agent receiving it, likewise
+
+  bool hasAgent(std::size_t c, std::size_t a) const noexcept { return agents[c * agentCount + a]; }
+  bool hasLink(std::size_t c, std::size_t l) const noexcept { return links[c * linkCount + l]; }
+  /// Configuration ``c`` holds the agent ``a`` (-1: an agent of every configuration).
+  bool holds(std::size_t c, std::int16_t a) const noexcept { return a < 0 || hasAgent(c, static_cast<std::size_t>(a)); }
+  /// A switch from ``from`` to ``to`` keeps the link ``l`` open until its sender has stopped:
+  /// ``to`` lacks it, its sender leaves and its receiver stays (earl_m2t.model.variability.lingers).
+  bool lingers(std::size_t from, std::size_t to, std::size_t l) const noexcept {
+#if EARL_SWITCH_LINGER
+    if (!hasLink(from, l) || hasLink(to, l)) return false;
+    const std::int16_t sender = linkSender[l], receiver = linkReceiver[l];
+    return sender >= 0 && holds(from, sender) && !holds(to, sender) && holds(from, receiver) && holds(to, receiver);
+#else
+    (void)from, (void)to, (void)l;
+    return false;
+#endif
+  }
 };
 
 /// The switch protocol (see the top of this file), driven by the coordinator subsystem.
@@ -548,7 +589,7 @@ class Switch final : public SwitchControl {
     forced_ = false;
     if (!cycles_) started_ = Clock::now();
     for (std::size_t l = 0; l < tables_.linkCount; ++l) {
-      if (hasLink(current_, l) && !hasLink(target_, l)) links_[l].gate->close();
+      if (hasLink(current_, l) && !hasLink(target_, l) && !tables_.lingers(current_, target_, l)) links_[l].gate->close();
     }
     for (std::size_t a = 0; a < tables_.agentCount; ++a) {
       if (leaves(a)) agents_[a]->set(AgentSlot::Phase::leaving);
@@ -601,6 +642,21 @@ class Switch final : public SwitchControl {
     return true;
   }
 
+  /// At the end of a run: the values written on each variable link while it was closed, told
+  /// to the observer.
+  void reportWrittenClosed() const noexcept {
+    if (observer_ == nullptr) return;
+    for (std::size_t l = 0; l < tables_.linkCount; ++l) {
+      const std::uint64_t refused = links_[l].gate->refused();
+      if (refused > 0) observer_->writtenClosed(links_[l].name, refused);
+    }
+  }
+  std::uint64_t writtenClosed() const noexcept {
+    std::uint64_t total = 0;
+    for (std::size_t l = 0; l < tables_.linkCount; ++l) total += links_[l].gate->refused();
+    return total;
+  }
+
   /// Values cleared on ``link`` at this switch: counted and told to the observer.
   void report(const char* link, std::uint64_t count) noexcept {
     if (count == 0) return;
@@ -619,8 +675,8 @@ class Switch final : public SwitchControl {
     }
   };
 
-  bool hasAgent(std::size_t c, std::size_t a) const noexcept { return tables_.agents[c * tables_.agentCount + a]; }
-  bool hasLink(std::size_t c, std::size_t l) const noexcept { return tables_.links[c * tables_.linkCount + l]; }
+  bool hasAgent(std::size_t c, std::size_t a) const noexcept { return tables_.hasAgent(c, a); }
+  bool hasLink(std::size_t c, std::size_t l) const noexcept { return tables_.hasLink(c, l); }
   bool leaves(std::size_t a) const noexcept { return hasAgent(current_, a) && !hasAgent(target_, a); }
   bool joins(std::size_t a) const noexcept { return !hasAgent(current_, a) && hasAgent(target_, a); }
   std::size_t index(const AgentSlot& agent) const noexcept {
@@ -653,6 +709,7 @@ class Switch final : public SwitchControl {
 
   void open() noexcept {
     for (std::size_t l = 0; l < tables_.linkCount; ++l) {
+      if (tables_.lingers(current_, target_, l)) links_[l].gate->close();  // its sender has stopped
       if (!hasLink(current_, l) && hasLink(target_, l)) links_[l].gate->open();
     }
     for (std::size_t a = 0; a < tables_.agentCount; ++a) {

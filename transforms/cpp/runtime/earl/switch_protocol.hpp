@@ -4,7 +4,8 @@
 // every node has acknowledged it with a SwitchAck before it sends the next round.
 //
 //   close     senders close their variable links that the new configuration lacks and
-//             report how many values they sent on each (cumulative counts);
+//             report how many values they sent on each (cumulative counts); a link from a
+//             leaving agent to one that stays stays open until the park;
 //   drain     with the counts of the close: a receiver of a closed link acknowledges once that
 //             many values have arrived on it (the transport keeps each link's order) and, when
 //             its agent leaves, once it has read them all. A leaving agent sees leaving() true
@@ -14,11 +15,16 @@
 //             senders' gates before the agents see leaving(), so nothing is in flight then);
 //   stop      the control subsystem of a leaving agent stops at its first iteration boundary
 //             in a quiescent state (at once when forced: the switch timeout passed);
-//   park      every subsystem of a leaving agent stops; when forced, the values still queued
-//             for it, or still to arrive, are cleared and reported as undelivered, per link;
+//   park      every subsystem of a leaving agent stops and closes its links to the agents
+//             that stay, reporting how many values it sent on each; when forced, the values
+//             still queued for it, or still to arrive, are cleared and reported as
+//             undelivered, per link;
 //   open      senders open the variable links of the new configuration (as earl::Switch
 //             does, before the joining agents run: what they send from their first iteration
-//             on goes out on them);
+//             on goes out on them); a receiver of a link from a stopped agent acknowledges
+//             once everything sent on it has arrived, so that it reads those values before
+//             any of a joining agent (unless the switch was forced: then they come when they
+//             arrive, none lost);
 //   activate  the joining agents are restarted or resumed; the coordinator then enters its
 //             new state.
 //
@@ -62,16 +68,10 @@ struct SwitchAck {
   SwitchRound round = SwitchRound::none;
   std::uint16_t node = 0;
   /// close: the values this node sent on each variable link it sends (0 for the others);
-  /// park: the values of each link into it that were undelivered.
+  /// park: the values of each link into it that were undelivered, and the values it sent on
+  /// each link of its agent to an agent that stays (the links lingers()).
   std::array<std::uint64_t, Links> counts{};
 };
-
-namespace detail {
-inline bool hasLink(const SwitchTables& t, std::size_t c, std::size_t l) noexcept { return t.links[c * t.linkCount + l]; }
-inline bool hasAgent(const SwitchTables& t, std::size_t c, std::size_t a) noexcept {
-  return t.agents[c * t.agentCount + a];
-}
-}  // namespace detail
 
 /// The switch as one node sees it: the gates of the variable links it sends, the counts of
 /// those it receives, and the slot of its agent when that agent is variable.
@@ -121,20 +121,33 @@ class SwitchMember final : public SwitchControl {
   void start(std::size_t configuration) noexcept {
     current_ = configuration;
     for (std::size_t l = 0; l < Links; ++l) {
-      const bool present = detail::hasLink(tables_, configuration, l);
+      const bool present = tables_.hasLink(configuration, l);
       open_[l] = present;
       if (receivers_[l].gate != nullptr) present ? receivers_[l].gate->open() : receivers_[l].gate->close();
     }
     if (agent_ >= 0) {
-      slot_.set(detail::hasAgent(tables_, configuration, static_cast<std::size_t>(agent_)) ? AgentSlot::Phase::active
+      slot_.set(tables_.hasAgent(configuration, static_cast<std::size_t>(agent_)) ? AgentSlot::Phase::active
                                                                                           : AgentSlot::Phase::stopped);
     }
   }
 
-  /// Whether a value sent now goes out on the variable link ``link`` (sent() counts it).
-  bool open(std::size_t link) const noexcept { return link < Links && open_[link]; }
+  /// Whether a value sent now goes out on the variable link ``link`` (sent() counts it); a value
+  /// it refuses is counted (writtenClosed()).
+  bool admit(std::size_t link) noexcept {
+    if (link >= Links) return false;
+    if (!open_[link]) ++refused_[link];
+    return open_[link];
+  }
   void sent(std::size_t link) noexcept {
     if (link < Links) ++sent_[link];
+  }
+  /// At the end of a run: the values written on each variable link this node sends while it
+  /// was closed, told to the observer.
+  void reportWrittenClosed() const noexcept {
+    if (observer_ == nullptr) return;
+    for (std::size_t l = 0; l < Links; ++l) {
+      if (refused_[l] > 0) observer_->writtenClosed(linkNames_ != nullptr ? linkNames_[l] : "?", refused_[l]);
+    }
   }
 
   /// A value of the variable link ``link`` arrived: writes it to ``channel`` (past its gate,
@@ -191,6 +204,7 @@ class SwitchMember final : public SwitchControl {
         break;
       case SwitchRound::open:
         openLinks();
+        done = c.forced || arrivedLingering();
         break;
       default:
         break;
@@ -209,6 +223,9 @@ class SwitchMember final : public SwitchControl {
       }
     } else if (c.round == SwitchRound::park) {
       ack.counts = undelivered_;
+      for (std::size_t l = 0; l < Links; ++l) {
+        if (sends_[l] && lingers(l)) ack.counts[l] = sent_[l];
+      }
     }
     return true;
   }
@@ -257,18 +274,19 @@ class SwitchMember final : public SwitchControl {
   };
 
   bool closes(std::size_t l) const noexcept {
-    return detail::hasLink(tables_, from_, l) && !detail::hasLink(tables_, to_, l);
+    return tables_.hasLink(from_, l) && !tables_.hasLink(to_, l);
   }
-  bool opens(std::size_t l) const noexcept { return !detail::hasLink(tables_, from_, l) && detail::hasLink(tables_, to_, l); }
+  bool lingers(std::size_t l) const noexcept { return tables_.lingers(from_, to_, l); }
+  bool opens(std::size_t l) const noexcept { return !tables_.hasLink(from_, l) && tables_.hasLink(to_, l); }
   bool leaves() const noexcept {
     if (agent_ < 0) return false;
     const auto a = static_cast<std::size_t>(agent_);
-    return detail::hasAgent(tables_, from_, a) && !detail::hasAgent(tables_, to_, a);
+    return tables_.hasAgent(from_, a) && !tables_.hasAgent(to_, a);
   }
   bool joins() const noexcept {
     if (agent_ < 0) return false;
     const auto a = static_cast<std::size_t>(agent_);
-    return !detail::hasAgent(tables_, from_, a) && detail::hasAgent(tables_, to_, a);
+    return !tables_.hasAgent(from_, a) && tables_.hasAgent(to_, a);
   }
 
   /// The close, which every later round of a switch implies.
@@ -279,9 +297,18 @@ class SwitchMember final : public SwitchControl {
     undelivered_.fill(0);
     for (std::size_t l = 0; l < Links; ++l) {
       if (!closes(l)) continue;
-      open_[l] = false;
-      if (receivers_[l].gate != nullptr) receivers_[l].gate->close();
+      if (!lingers(l)) open_[l] = false;  // a lingering one at the park, once its sender stopped
+      if (receivers_[l].gate != nullptr) receivers_[l].gate->close();  // read before the others
     }
+  }
+
+  /// Every value sent on the links into this node from the agents that stopped (lingers()) has
+  /// arrived: the counts of the park are in the open round's command.
+  bool arrivedLingering() const noexcept {
+    for (std::size_t l = 0; l < Links; ++l) {
+      if (receivers_[l].channel != nullptr && lingers(l) && arrived_[l] < expected_[l]) return false;
+    }
+    return true;
   }
 
   /// Every closed link into this node has brought what was sent on it, and (``read``) the
@@ -305,6 +332,9 @@ class SwitchMember final : public SwitchControl {
   void park(bool forced) noexcept {
     if (!leaves()) return;
     slot_.set(AgentSlot::Phase::stopped);
+    for (std::size_t l = 0; l < Links; ++l) {
+      if (sends_[l] && lingers(l)) open_[l] = false;
+    }
     if (!forced) return;
     for (std::size_t l = 0; l < Links; ++l) {
       const Receiver& r = receivers_[l];
@@ -345,6 +375,7 @@ class SwitchMember final : public SwitchControl {
   std::array<bool, Links> sends_{};
   std::array<bool, Links> open_{};
   std::array<std::uint64_t, Links> sent_{};
+  std::array<std::uint64_t, Links> refused_{};
   std::array<Receiver, Links> receivers_{};
   std::array<std::uint64_t, Links> arrived_{};
   std::array<std::uint64_t, Links> expected_{};
@@ -396,7 +427,13 @@ class SwitchCoordinator final : public SwitchControl {
     if (ack.round == SwitchRound::close) {
       for (std::size_t l = 0; l < Links; ++l) command_.counts[l] += ack.counts[l];
     } else if (ack.round == SwitchRound::park) {
-      for (std::size_t l = 0; l < Links; ++l) undeliveredNow_[l] += ack.counts[l];
+      for (std::size_t l = 0; l < Links; ++l) {
+        if (tables_.lingers(current_, target_, l)) {
+          lingered_[l] += ack.counts[l];  // sent by the stopped agent: what the open waits for
+        } else {
+          undeliveredNow_[l] += ack.counts[l];
+        }
+      }
     }
   }
 
@@ -410,6 +447,7 @@ class SwitchCoordinator final : public SwitchControl {
     command_.from = static_cast<std::uint16_t>(current_);
     command_.to = static_cast<std::uint16_t>(target_);
     undeliveredNow_.fill(0);
+    lingered_.fill(0);
     send(SwitchRound::close);
     return true;
   }
@@ -421,6 +459,12 @@ class SwitchCoordinator final : public SwitchControl {
     if (acks_ < Nodes) {
       // the drain and the quiescence of the leaving agents are what the timeout bounds
       if ((round == SwitchRound::drain || round == SwitchRound::stop) && !command_.forced && timedOut()) force();
+      // and the arrival of a stopped agent's last values (a transport that dropped one)
+      if (round == SwitchRound::open && !command_.forced && timedOut()) {
+        ++timeouts_;
+        command_.forced = true;
+        send(SwitchRound::open);
+      }
       return false;
     }
     measure(round);
@@ -444,6 +488,9 @@ class SwitchCoordinator final : public SwitchControl {
         return false;
       case SwitchRound::park:
         report();
+        for (std::size_t l = 0; l < Links; ++l) {
+          if (tables_.lingers(current_, target_, l)) command_.counts[l] = lingered_[l];
+        }
         send(SwitchRound::open);
         return false;
       case SwitchRound::open:
@@ -554,6 +601,7 @@ class SwitchCoordinator final : public SwitchControl {
   std::array<bool, Nodes> acked_{};
   std::size_t acks_ = 0;
   std::array<std::uint64_t, Links> undeliveredNow_{};
+  std::array<std::uint64_t, Links> lingered_{};
   std::size_t current_ = 0;
   std::size_t target_ = kNone;
   std::uint32_t seq_ = 0;
