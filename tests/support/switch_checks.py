@@ -171,9 +171,9 @@ class Harmoniser:
     SWITCHES = [("none", "guiding"), ("guiding", "fallResponse"), ("fallResponse", "guiding")]
     TIMEOUT_MS = 500.0  # the switchTimeout of every configuration
 
-    LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+)$")
+    LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+) \(command (\d+)\)$")
     PARK = re.compile(r"^guide/a\.cs: park after command (\d+)$")
-    ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+)$")
+    ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+) \(command (\d+)\)$")
     STAND_BY = re.compile(r"^fallHelp/a\.cs: stand by after command (\d+)$")
     TOOK = re.compile(r"^tiago/a\.cs: took command (\d+)$")
     GUIDE_STEP = re.compile(r"^step (\d+) guide/a\.cs: (\w+) -> (\w+) ")
@@ -255,12 +255,21 @@ class Harmoniser:
         return found
 
     @classmethod
+    def commands_sent(cls, lines: list[str]) -> tuple[list[int], list[int]]:
+        """The numbers of the commands guide/a and fallHelp/a printed sending (each pf that sends
+        one prints its number)."""
+        guide = [int(m.group(m.lastindex or 1)) for line in lines for m in (cls.LEAD.match(line), cls.PARK.match(line)) if m]
+        fall_help = [int(m.group(m.lastindex or 1)) for line in lines
+                     for m in (cls.ASSIST.match(line), cls.STAND_BY.match(line)) if m]
+        return guide, fall_help
+
+    @classmethod
     def commands_not_taken_once(cls, lines: list[str]) -> list[str]:
         """tiago/a takes every command of the task agents once and in order, those a leaving agent
-        sends in its last iterations (its parks, its stand-bys) included: guide/a's 1 … a, then
-        fallHelp/a's 1 … b, its last stand-by, then guide/a's a + 1 on (its numbering resumes;
-        the run may end before the last ones are taken). The lines are tiago/a's own, in its
-        order, whatever process printed the others."""
+        sends in its last iterations (until it stops) included: guide/a's 1 … a, then every one
+        fallHelp/a sent, then guide/a's a + 1 on (its numbering resumes; the run may end before
+        its last ones are taken). tiago/a's lines are in its own order, whatever process printed
+        the others."""
         taken = [int(m.group(1)) for m in map(cls.TOOK.match, lines) if m]
         runs: list[list[int]] = []
         for seq in taken:
@@ -269,12 +278,12 @@ class Harmoniser:
             else:
                 runs.append([seq])
         shown = ", ".join(f"{run[0]}…{run[-1]}" for run in runs)
-        stood_by = [int(m.group(1)) for m in map(cls.STAND_BY.match, lines) if m]
+        guide, fall_help = cls.commands_sent(lines)
         if len(runs) != 3 or runs[0][0] != 1 or runs[1][0] != 1 or runs[2][0] != runs[0][-1] + 1:
             return [f"tiago/a took the task commands {shown}, not guide/a's 1…a, fallHelp/a's 1…b, guide/a's a+1…"]
-        if not stood_by or runs[1][-1] != max(stood_by):
-            return [f"tiago/a took fallHelp/a's commands 1…{runs[1][-1]}, but its last was "
-                    f"{max(stood_by, default=0)} (a stand-by as it left)"]
+        if runs[1][-1] != max(fall_help, default=0) or runs[2][-1] > max(guide, default=0):
+            return [f"tiago/a took the task commands {shown}; fallHelp/a sent 1…{max(fall_help, default=0)}, "
+                    f"guide/a 1…{max(guide, default=0)}"]
         return []
 
     @classmethod

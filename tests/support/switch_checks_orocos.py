@@ -76,9 +76,9 @@ def two_arm_finished(lines: list[str], task: str) -> bool:
 # ---------------------------------------------------------------- harmoniser
 
 HARMONISER_SWITCHES = [("none", "guiding"), ("guiding", "fallResponse"), ("fallResponse", "guiding")]
-LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+)$")
+LEAD = re.compile(r"^guide/a\.cs: lead to waypoint (\d+) \(command (\d+)\)$")
 PARK = re.compile(r"^guide/a\.cs: park after command (\d+)$")
-ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+)$")
+ASSIST = re.compile(r"^fallHelp/a\.cs: assist step (\d+) \(command (\d+)\)$")
 FALL_HELP = re.compile(r"^fallHelp/a\.cs: ")
 
 

@@ -14,7 +14,7 @@ namespace Harmoniser::fallHelp_a::cs {
 
 /// Brings the robot next to the person and holds the arm out for them: one step more each
 /// iteration. Prints
-///   fallHelp/a.cs: assist step N
+///   fallHelp/a.cs: assist step N (command M)
 class assist_pf final : public assist_pf_base {
  public:
   using assist_pf_base::assist_pf_base;
@@ -25,7 +25,7 @@ class assist_pf final : public assist_pf_base {
     command.base.vx = 0.2;
     command.arm.q[1] = 0.5;
     command.seq = ++seq_mo();
-    if (!harmoniser::quiet()) std::printf("fallHelp/a.cs: assist step %" PRId64 "\n", step_mo());
+    if (!harmoniser::quiet()) std::printf("fallHelp/a.cs: assist step %" PRId64 " (command %" PRId64 ")\n", step_mo(), seq_mo());
   }
 };
 

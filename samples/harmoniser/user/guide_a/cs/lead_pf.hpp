@@ -14,7 +14,7 @@ namespace Harmoniser::guide_a::cs {
 
 /// Leads the person on to the next waypoint of the route (one more each iteration), the base
 /// moving ahead slowly. Prints
-///   guide/a.cs: lead to waypoint N
+///   guide/a.cs: lead to waypoint N (command M)
 class lead_pf final : public lead_pf_base {
  public:
   using lead_pf_base::lead_pf_base;
@@ -25,7 +25,7 @@ class lead_pf final : public lead_pf_base {
     command.base.vx = 0.4;
     command.base.wz = 0.0;
     command.seq = ++seq_mo();
-    if (!harmoniser::quiet()) std::printf("guide/a.cs: lead to waypoint %" PRId64 "\n", waypoint_mo());
+    if (!harmoniser::quiet()) std::printf("guide/a.cs: lead to waypoint %" PRId64 " (command %" PRId64 ")\n", waypoint_mo(), seq_mo());
   }
 };
 
