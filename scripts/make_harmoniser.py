@@ -32,6 +32,7 @@ from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 TASK_QUEUE = 64  # tiago/a.cs's queue of task commands: 64 periods of a starved robot
+TIAGO_ACTIVATION = {"bufferGroup": "tasks", "minPeriod": "0.0005", "firstTimeout": "0.002", "nextTimeout": "0.002"}
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
@@ -133,7 +134,12 @@ def tiago_control(pkg: Package, dt: DataTypes) -> Block:
         body="// Passes the task agent's base and arm setpoints on, reports the robot and the person it sees "
              "and raises the fall alarm while the person lies on the floor.",
     )  # fmt: skip
-    single_state(cs, "operate", pf)
+    # each command activates an iteration, at most one per half period of the task agents, so
+    # that the queue drains what a starved robot let pile up; without one, every 2 ms
+    cs.buffer_group("tasks", obligatory=[task])
+    operate = cs.state_machine().state("operate", initial=True)
+    operate.do_activity(tc="FALSE", ec="FALSE").stages([[pf]])
+    operate.stereotype("FsmState", TIAGO_ACTIVATION)
     return cs
 
 

@@ -38,7 +38,7 @@ from tests.support import orocos
 from tests.support.campaign import catch_runs, loaded_runs
 from tests.support.cpp_sample import cmake_build, generate_with_user_code, run
 from tests.support.load import cpu_hogs, run_until
-from tests.support.switch_checks import TwoArm, forced_switches, forced_two_arm, restarted_harmoniser
+from tests.support.switch_checks import Harmoniser, TwoArm, forced_switches, forced_two_arm, restarted_harmoniser
 from tests.support.switch_checks_orocos import (
     HARMONISER_SWITCHES,
     LEAD,
@@ -242,6 +242,7 @@ def test_harmoniser_deployments_under_load_resume_the_guide_agent(
             if switches(lines) != harmoniser_cpp_switches:
                 found.append(f"switches {switches(lines)}")
             found += [line for line in lines if "undelivered at switch" in line or "overflowed" in line]
+            found += Harmoniser.commands_not_taken_once(lines)  # what guide/a sent until it stopped included
             try:
                 assert_resumed(lines, "guide_a_cs")
                 assert_fall_help_starts_initially(lines, "fallHelp_a_cs")

@@ -264,19 +264,24 @@ class Harmoniser:
         return guide, fall_help
 
     @classmethod
+    def taken_runs(cls, lines: list[str]) -> list[list[int]]:
+        """The numbers of the commands tiago/a took, in runs of consecutive ones."""
+        runs: list[list[int]] = []
+        for seq in (int(m.group(1)) for m in map(cls.TOOK.match, lines) if m):
+            if runs and seq == runs[-1][-1] + 1:
+                runs[-1].append(seq)
+            else:
+                runs.append([seq])
+        return runs
+
+    @classmethod
     def commands_not_taken_once(cls, lines: list[str]) -> list[str]:
         """tiago/a takes every command of the task agents once and in order, those a leaving agent
         sends in its last iterations (until it stops) included: guide/a's 1 … a, then every one
         fallHelp/a sent, then guide/a's a + 1 on (its numbering resumes; the run may end before
         its last ones are taken). tiago/a's lines are in its own order, whatever process printed
         the others."""
-        taken = [int(m.group(1)) for m in map(cls.TOOK.match, lines) if m]
-        runs: list[list[int]] = []
-        for seq in taken:
-            if runs and seq == runs[-1][-1] + 1:
-                runs[-1].append(seq)
-            else:
-                runs.append([seq])
+        runs = cls.taken_runs(lines)
         shown = ", ".join(f"{run[0]}…{run[-1]}" for run in runs)
         guide, fall_help = cls.commands_sent(lines)
         if len(runs) != 3 or runs[0][0] != 1 or runs[1][0] != 1 or runs[2][0] != runs[0][-1] + 1:
