@@ -14,7 +14,8 @@ its last iterations included (its links to tiago/a, which stays, are open until 
 
 Sensitivity controls: a build that skips the drain (``-DEARL_SWITCH_DRAIN=0``) fails the checks
 in a loaded run; one that closes a leaving agent's links at the decision
-(``-DEARL_SWITCH_LINGER=0``) loses its last commands, each counted as written while closed; the same sample with guide/a restarted instead (its ``reactivation`` tag
+(``-DEARL_SWITCH_LINGER=0``) loses its last commands, each counted as written while closed;
+the same sample with guide/a restarted instead (its ``reactivation`` tag
 taken out of the SysML v2 file) leads from the first waypoint again after the fall, which the
 checks of the resumed agent reject.
 """
@@ -106,7 +107,8 @@ def test_tiago_takes_what_a_leaving_agent_sends_in_its_last_iterations(trace: li
     """guide/a leaving, and fallHelp/a, send a park or stand-by command in each iteration until
     they stop; the links to tiago/a, which stays, are open until then: tiago/a takes every one."""
     taken = [int(m.group(1)) for m in map(Harmoniser.TOOK.match, trace) if m]
-    last_before_fall = max(int(m.group(1)) for m in map(Harmoniser.PARK.match, trace[:Harmoniser.resumed_at(trace)[0]]) if m)
+    fall = Harmoniser.resumed_at(trace)[0]
+    last_before_fall = max(int(m.group(1)) for m in map(Harmoniser.PARK.match, trace[:fall]) if m)
     assert last_before_fall in taken and taken.index(last_before_fall) < taken.index(1, 1)
     assert Harmoniser.commands_not_taken_once(trace) == []
     assert not [line for line in trace if "written while closed" in line and ",tiago/a:" in line]

@@ -258,7 +258,8 @@ class Harmoniser:
     def commands_sent(cls, lines: list[str]) -> tuple[list[int], list[int]]:
         """The numbers of the commands guide/a and fallHelp/a printed sending (each pf that sends
         one prints its number)."""
-        guide = [int(m.group(m.lastindex or 1)) for line in lines for m in (cls.LEAD.match(line), cls.PARK.match(line)) if m]
+        guide = [int(m.group(m.lastindex or 1)) for line in lines
+                 for m in (cls.LEAD.match(line), cls.PARK.match(line)) if m]
         fall_help = [int(m.group(m.lastindex or 1)) for line in lines
                      for m in (cls.ASSIST.match(line), cls.STAND_BY.match(line)) if m]
         return guide, fall_help
@@ -283,12 +284,12 @@ class Harmoniser:
         the others."""
         runs = cls.taken_runs(lines)
         shown = ", ".join(f"{run[0]}…{run[-1]}" for run in runs)
-        guide, fall_help = cls.commands_sent(lines)
+        _, fall_help = cls.commands_sent(lines)
         if len(runs) != 3 or runs[0][0] != 1 or runs[1][0] != 1 or runs[2][0] != runs[0][-1] + 1:
             return [f"tiago/a took the task commands {shown}, not guide/a's 1…a, fallHelp/a's 1…b, guide/a's a+1…"]
-        if runs[1][-1] != max(fall_help, default=0) or runs[2][-1] > max(guide, default=0):
-            return [f"tiago/a took the task commands {shown}; fallHelp/a sent 1…{max(fall_help, default=0)}, "
-                    f"guide/a 1…{max(guide, default=0)}"]
+        # guide/a's last lines may not be read yet when a launch ends: its count is no bound
+        if runs[1][-1] != max(fall_help, default=0):
+            return [f"tiago/a took the task commands {shown}; fallHelp/a sent 1…{max(fall_help, default=0)}"]
         return []
 
     @classmethod

@@ -104,7 +104,8 @@ def harmoniser_finished(lines: list[str]) -> bool:
     """guide/a, brought back after the fall, has led to a waypoint, and tiago/a has taken a
     command of guide/a's again (the third run of its numbers: guide/a's, fallHelp/a's, guide/a's)."""
     back = next((i for i, line in enumerate(lines) if SWITCH.match(line) and "fallResponse -> guiding" in line), None)
-    return back is not None and any(LEAD.match(line) for line in lines[back:]) and len(Harmoniser.taken_runs(lines)) >= 3
+    return (back is not None and any(LEAD.match(line) for line in lines[back:])
+            and len(Harmoniser.taken_runs(lines)) >= 3)
 
 
 def assert_resumed(trace: list[str], guide: str) -> None:
