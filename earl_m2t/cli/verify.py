@@ -24,7 +24,7 @@ EXIT_NOT_PROVEN = 3
 # importing the verifier (a test keeps the two equal).
 OUTPUT_FORMATS = ("text", "json", "sarif", "github")
 # The codes of earl_m2t.verify.run.CHECK_CODES, for the same reason (the same test).
-CHECK_CODES = ("V001", "V002", "V003", "V004", "V005", "V006", "V007", "V008")
+CHECK_CODES = ("V001", "V002", "V003", "V004", "V005", "V006", "V007", "V008", "V009")
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -43,7 +43,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                              "('[] (config@useB -> !manipA/a@active)') "
                              "(repeatable; the model's own properties are checked too)")
     parser.add_argument("--check", action="append", default=[], metavar="CODE", choices=CHECK_CODES,
-                        help="decide only this check (V001-V008, repeatable; default every one), e.g. "
+                        help="decide only this check (V001-V009, repeatable; default every one), e.g. "
                              "'--check V006' for the switches' losses alone")
     add_dialect_option(parser)
     add_profile_files_option(parser)

@@ -2,7 +2,8 @@
 
 A buffer counts as one byte; in a variable-structure model a buffer that a variable link
 delivers to counts per link (what a switch clears is then told per link), each send guarded by
-its link being open.
+its link being open; a send that a closed link drops while its leaving sender drains sets
+``dropped`` (switching.DROP).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from dataclasses import dataclass
 
 from earl_m2t.model.elements import Buffer, Link
 from earl_m2t.verify.promela_text import promela_comment
+from earl_m2t.verify.switching import DROP, SWITCH_MARK
 
 
 @dataclass(frozen=True, slots=True)
@@ -18,6 +20,7 @@ class CountedLink:
     link: Link
     variable: str
     open: str | None  # the Promela condition under which it delivers, None when always
+    drops: str | None = None  # when a send it refuses is dropped (disjoint from open), None when never
 
 
 @dataclass(frozen=True, slots=True)
@@ -62,10 +65,11 @@ class TrackedBuffer:
         return tuple(c for c in self.links if c.link.path in links)
 
     def can_send(self, links: frozenset[str]) -> str:
-        """A send on ``links`` would change the count."""
+        """A send on ``links`` would change the count, or drop the value."""
         if not self.links:
             return f"{self.variable} < {self.capacity}"
-        return " || ".join(f"{_open(c)}{self.count} < {self.capacity}" for c in self.sending(links)) or "false"
+        return " || ".join(f"{_open(c)}{self.count} < {self.capacity}" + (f" || {c.drops}" if c.drops else "")
+                           for c in self.sending(links)) or "false"
 
     def send(self, links: frozenset[str]) -> list[str]:
         """Sends on ``links`` (a full queue drops the value, as the runtime's overflow)."""
@@ -74,11 +78,13 @@ class TrackedBuffer:
             return [f"{v} = ({v} < {self.capacity} -> {v} + 1 : {self.capacity})"]
         out = []
         for c in self.sending(links):
+            dropped = f" :: {c.drops} -> {DROP.format(mark=SWITCH_MARK, counter=c.variable)}" if c.drops else ""
             if self.capacity == 1:  # latest: the newest value supersedes the others
                 others = "".join(f"; {o.variable} = 0" for o in self.links if o is not c)
-                out.append(f"if :: {_open(c, '')} -> {c.variable} = 1{others} :: else -> skip fi")
+                out.append(f"if :: {_open(c, '')} -> {c.variable} = 1{others}{dropped} :: else -> skip fi")
             else:
-                out.append(f"if :: {_open(c)}{self.count} < {self.capacity} -> {c.variable}++ :: else -> skip fi")
+                out.append(f"if :: {_open(c)}{self.count} < {self.capacity} -> {c.variable}++{dropped} "
+                           ":: else -> skip fi")
         return out
 
 

@@ -21,6 +21,7 @@ from earl_m2t.analysis.receiving import state_inputs
 from earl_m2t.analysis.switching import fed_inputs, leaving_agents
 from earl_m2t.model.directives import LtlProperty
 from earl_m2t.model.elements import Buffer, EarlModel, Link, State, Subsystem
+from earl_m2t.model.variability import link_agents
 from earl_m2t.predicate import BuiltInPredicate
 from earl_m2t.verify.counters import CountedLink, TrackedBuffer
 from earl_m2t.verify.ltl import AgentAtom, ConfigAtom, PredicateAtom, StateAtom, SwitchingAtom, Token
@@ -28,7 +29,7 @@ from earl_m2t.verify.ltl import tokens as ltl_tokens
 from earl_m2t.verify.outcomes import Outcome, StateOutcomes, state_outcomes
 from earl_m2t.verify.promela_text import promela_comment
 from earl_m2t.verify.switch_process import ProcessState, SwitchView, switch_process
-from earl_m2t.verify.switching import SWITCH_MARK, Reconfiguration, claims, declarations, reconfiguration
+from earl_m2t.verify.switching import DROP_CLAIM, SWITCH_MARK, Reconfiguration, claims, declarations, reconfiguration
 
 OUTCOME_MARK = "EARL"  # the printf tag of a taken outcome, read back from SPIN's replay
 
@@ -108,7 +109,7 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
             if isinstance(token, PredicateAtom) and (token.subsystem, token.predicate) not in watched:
                 watched[(token.subsystem, token.predicate)] = ObservedPredicate(
                     token.subsystem, token.predicate, f"pp{len(watched)}")
-    tracked = _tracked(model, spec, rc)
+    tracked = _tracked(model, spec, rc, drops=claim == DROP_CLAIM)
     senders = _senders(model)
     lines: list[str] = [f"/* {promela_comment(model.name)}: earl-m2t verify, see docs/verify.md */"]
     for t in spec.tracked:
@@ -160,10 +161,14 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
     return spec
 
 
-def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None) -> dict[str, TrackedBuffer]:
+def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None,
+             drops: bool = False) -> dict[str, TrackedBuffer]:
     """The Input Buffers some state waits for without a timeout, and in a variable structure
-    every linked input of an agent a switch can remove (what a switch must drain), counted (per
-    link when a variable link delivers to them)."""
+    every linked input of an agent a switch can remove (what a switch must drain) and every input
+    a variable link from a variable agent delivers to (what a leaving agent sends while it drains),
+    counted (per link when a variable link delivers to them). With ``drops`` (the search of V009)
+    a send a closed link drops sets ``dropped``; the other searches leave it out, so that an
+    iteration whose send goes nowhere still changes nothing there."""
     tracked: dict[str, TrackedBuffer] = {}
     counters = 0
 
@@ -174,7 +179,9 @@ def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None) 
         capacity = max(buf.queue_size, 1) if buf.receive == "queue" else 1
         incoming = [link for link in model.links if link.target == buf.path] if rc else []
         if rc is not None and any(link.path in rc.varying for link in incoming):
-            links = tuple(CountedLink(link, f"q{counters + n}", rc.link_open(link)) for n, link in enumerate(incoming))
+            links = tuple(CountedLink(link, f"q{counters + n}", rc.link_open(link),
+                                      rc.link_drops(link) if drops else None)
+                          for n, link in enumerate(incoming))
             tracked[buf.path] = TrackedBuffer(buf, links[0].variable, capacity, links)
             counters += len(links)
         else:
@@ -191,8 +198,17 @@ def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None) 
         for agent in leaving_agents(rc.system):
             for buf in (b for sub in agent.subsystems for b in sub.inputs if b.path in fed):
                 track(buf)
+        for buf in _from_variable_agents(model, rc):
+            track(buf)
     spec.tracked = list(tracked.values())
     return tracked
+
+
+def _from_variable_agents(model: EarlModel, rc: Reconfiguration) -> list[Buffer]:
+    """The Input Buffers a variable link whose sender is a variable agent delivers to."""
+    targets = [link.target for link in model.links if link.path in rc.varying
+               and rc.agent(link_agents(rc.system, link)[0]) is not None]
+    return [buf for path in targets if (buf := model.buffer(path)) is not None]
 
 
 def _outcomes(model: EarlModel, sub: Subsystem, observed: tuple[ObservedPredicate, ...],

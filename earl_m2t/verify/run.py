@@ -14,8 +14,9 @@ from earl_m2t.model.elements import EarlModel, Subsystem
 from earl_m2t.model.location import Location
 from earl_m2t.verify import spin
 from earl_m2t.verify.promela import OUTCOME_MARK, Specification, Step, translate
-from earl_m2t.verify.switch_trace import SwitchReader
+from earl_m2t.verify.switch_trace import SwitchEvent, SwitchReader
 from earl_m2t.verify.switching import (
+    DROP_CLAIM,
     EXCLUSIVE_CLAIM,
     LOSS_CLAIM,
     SWITCH_MARK,
@@ -26,14 +27,14 @@ from earl_m2t.verify.switching import (
 
 MEMORY_MB = 1024  # pan's state storage (-DMEMLIM)
 UNREACHABLE, DEADLOCK, NEVER_ENDS, NO_WAY_OUT, LTL_VIOLATED = "V001", "V002", "V003", "V004", "V005"
-SWITCH_LOSES, SWITCH_TIMES_OUT, SWITCH_OVERLAPS = "V006", "V007", "V008"
+SWITCH_LOSES, SWITCH_TIMES_OUT, SWITCH_OVERLAPS, SWITCH_DROPS = "V006", "V007", "V008", "V009"
 _MARKS = re.compile(rf"{OUTCOME_MARK} (\d+) (\d+) (\d+)|{SWITCH_MARK} (\w+)([^\n]*)")
 
 
 # the checks each search decides: every one runs unless VerifyOptions.checks leaves all its codes out
 REACHABILITY_CHECKS = frozenset({UNREACHABLE, NEVER_ENDS, NO_WAY_OUT})
 CHECK_CODES = (UNREACHABLE, DEADLOCK, NEVER_ENDS, NO_WAY_OUT, LTL_VIOLATED, SWITCH_LOSES, SWITCH_TIMES_OUT,
-               SWITCH_OVERLAPS)
+               SWITCH_OVERLAPS, SWITCH_DROPS)
 
 
 @dataclass(frozen=True, slots=True)
@@ -187,13 +188,14 @@ def _deadlock(spec: Specification, folder: Path, options: VerifyOptions, left: C
 
 _SWITCH_CHECKS = ((SWITCH_LOSES, LOSS_CLAIM, "no switch loses values"),
                   (SWITCH_TIMES_OUT, TIMEOUT_CLAIM, "every switch can end without its timeout"),
-                  (SWITCH_OVERLAPS, EXCLUSIVE_CLAIM, "exclusivity"))
+                  (SWITCH_OVERLAPS, EXCLUSIVE_CLAIM, "exclusivity"),
+                  (SWITCH_DROPS, DROP_CLAIM, "no leaving agent's send is dropped"))
 
 
 def _switches(model: EarlModel, rc: Reconfiguration, folder: Path, options: VerifyOptions,
               left: Callable[[], float], result: VerifyResult) -> None:
-    """V006-V008: a switch that loses values, one that only its timeout ends, agents of
-    different configurations running together."""
+    """V006-V009: a switch that loses values, one that only its timeout ends, agents of
+    different configurations running together, a leaving agent's send that goes nowhere."""
     pairs = exclusive_pairs(rc)
     together = ", ".join(f"{a.agent.path} and {b.agent.path}" for a, b in pairs) or "none"
     proven = {
@@ -201,6 +203,8 @@ def _switches(model: EarlModel, rc: Reconfiguration, folder: Path, options: Veri
                       "received every value sent to it",
         SWITCH_TIMES_OUT: "every switch can end without its timeout",
         SWITCH_OVERLAPS: f"exclusivity: agents that share no configuration never run together ({together})",
+        SWITCH_DROPS: "no leaving agent's send is dropped: what a leaving agent sends until it stops reaches "
+                      "its receiver",
     }
     for code, claim, what in _SWITCH_CHECKS:
         if not options.runs(code):
@@ -232,6 +236,12 @@ def _switch_finding(model: EarlModel, rc: Reconfiguration, code: str, trace: tup
         link = next((lk for lk in model.links if lk.path == label), None)
         return Finding(code, f"a switch can lose values on {label}: the switch {switch} ends by its timeout with "
                        f"{count} value(s) not received ({where})", label,
+                       link.location if link else rc.system.location, trace)
+    if code == SWITCH_DROPS and reader is not None and reader.dropped:
+        label, sender, dropping = reader.dropped[0]
+        link = next((lk for lk in model.links if lk.path == label), None)
+        return Finding(code, f"a leaving agent's send is dropped on {label}: {sender} sends on it while the switch "
+                       f"{dropping} is pending, and the link is closed: the value goes nowhere", label,
                        link.location if link else rc.system.location, trace)
     if code == SWITCH_TIMES_OUT and stuck:
         agent = next((a for a in model.agents if a.path == stuck[0][0]), None)
@@ -272,6 +282,12 @@ def _read_trace(spec: Specification, replay: str) -> tuple[tuple[TraceStep, ...]
         by_key[(info, state, outcome)] = generated
     reader = SwitchReader(spec, spec.reconfiguration) if spec.reconfiguration is not None else None
     steps: list[TraceStep] = []
+    # a send's drop is printed inside the iteration that sends, before its outcome: shown after it
+    after_step: list[SwitchEvent] = []
+
+    def add(event: SwitchEvent) -> None:
+        steps.append(TraceStep(len(steps) + 1, event.subsystem, event.source, event.target, event.why, ()))
+
     for match in _MARKS.finditer(replay):
         if match.group(4) is not None:
             kind, words = match.group(4), match.group(5).split()
@@ -282,13 +298,21 @@ def _read_trace(spec: Specification, replay: str) -> tuple[tuple[TraceStep, ...]
                 steps[-1] = TraceStep(last.number, last.subsystem, last.source, last.target,
                                       last.why + reader.begins(words[0]), last.values)
             elif (event := reader.event(kind, words)) is not None:
-                steps.append(TraceStep(len(steps) + 1, event.subsystem, event.source, event.target, event.why, ()))
+                if kind == "dropped":
+                    after_step.append(event)
+                else:
+                    add(event)
             continue
         step: Step = by_key[(int(match.group(1)), int(match.group(2)), int(match.group(3)))]
         o = step.outcome
         target = o.transition.target if o.transition else step.state.name
         why = o.transition.name if o.transition else ("behaviour ended, no transition" if o.ended else "iteration")
         steps.append(TraceStep(len(steps) + 1, step.subsystem.path, step.state.name, target, why, o.witness))
+        for event in after_step:
+            add(event)
+        after_step.clear()
+    for event in after_step:
+        add(event)
     return tuple(steps), reader
 
 

@@ -1,10 +1,12 @@
-"""The switch events of SPIN's replay (switch_process.py) as steps of a counterexample."""
+"""The switch events of SPIN's replay (switch_process.py; a send a closed link drops, counters.py)
+as steps of a counterexample."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 from earl_m2t.model.kinds import SubsystemKind
+from earl_m2t.model.variability import link_agents, system_links
 from earl_m2t.verify.promela import ProcessInfo, Specification
 from earl_m2t.verify.switching import Reconfiguration
 
@@ -31,6 +33,7 @@ class SwitchReader:
     # agent, the state its control subsystem was stopped in ("" when unknown), and why it was stuck
     stuck: list[tuple[str, str, str]] = field(default_factory=list)
     timed_out: tuple[str, str] | None = None  # the switch its timeout ended: from, to
+    dropped: list[tuple[str, str, str]] = field(default_factory=list)  # link, its sender, the switch (from → to)
 
     def __post_init__(self) -> None:
         self.configuration = self.rc.structures[self.rc.initial].configuration.name
@@ -64,7 +67,17 @@ class SwitchReader:
         if kind == "lost" and len(words) == 2:
             self.lost.append((words[0], int(words[1])))
             return SwitchEvent(words[0], f"{words[1]} queued", "cleared", "the switch timeout: undelivered")
+        if kind == "dropped" and len(words) == 2:
+            return self._dropped(words[0], int(words[1]))
         return None
+
+    def _dropped(self, label: str, target: int) -> SwitchEvent:
+        link = next((lk for lk in system_links(self.rc.system) if lk.path == label), None)
+        sender = link_agents(self.rc.system, link)[0] if link is not None else ""
+        switch = f"{self.configuration} → {self.rc.structures[target].configuration.name}"
+        self.dropped.append((label, sender, switch))
+        return SwitchEvent(label, "sent", "dropped", f"the closed link: {sender or 'its sender'} leaves in the "
+                           f"switch {switch}")
 
     def _named(self, kind: str, words: list[str]) -> list[str]:
         """The words of a mark with the model's names in place of the numbers and identifiers the
@@ -76,7 +89,7 @@ class SwitchReader:
             first = self.rc.agents[int(first)].agent.path
         elif kind == "open":
             first = self.rc.structures[int(first)].configuration.name
-        elif kind == "lost":
+        elif kind in ("lost", "dropped"):
             first = next((label for t in self.spec.tracked for counter, label in t.counters if counter == first), first)
         return [first, *words[1:]]
 

@@ -5,7 +5,9 @@ A model with configurations and one coordinator gets: a global configuration num
 ``pending``, the coordinator's state once it is open), and per variable agent ``activeN`` and
 ``leavingN``. A variable link is open while the configuration holds it and, during a switch,
 only when the next one holds it too (closed at its sender; the receiver still reads what it
-holds). The coordinator's iteration that takes a transition to a state naming another
+holds), or when it lingers (variability.lingers): its sender leaves and has not stopped yet, its
+receiver stays. A leaving agent's send on a link that is closed sets ``dropped``. The
+coordinator's iteration that takes a transition to a state naming another
 configuration begins a switch instead of entering the state; a leaving agent stops in a
 quiescent state with its tracked inputs empty; the switch opens once every leaving agent has
 stopped; its timeout is a step enabled only when nothing else can move (Promela ``timeout``),
@@ -18,7 +20,15 @@ from dataclasses import dataclass
 
 from earl_m2t.model.elements import Agent, EarlModel, Link, State, Subsystem, System
 from earl_m2t.model.kinds import Reactivation
-from earl_m2t.model.variability import Structure, coordinator, structures, variable_agents, variable_links
+from earl_m2t.model.variability import (
+    Structure,
+    coordinator,
+    lingers,
+    link_agents,
+    structures,
+    variable_agents,
+    variable_links,
+)
 from earl_m2t.verify.promela_text import promela_comment
 
 SWITCH_MARK = "EARLSWITCH"  # the printf tag of a switch event, read back from SPIN's replay
@@ -29,14 +39,17 @@ DECLARATIONS = (
     "byte pending = 0; /* the coordinator's state once the switch is open */",
     "bool switching = false; /* a switch is pending: the coordinator does not iterate */",
     "bool lost = false; /* a switch timeout cleared values nobody received */",
+    "bool dropped = false; /* a leaving agent sent on a link that is closed */",
     "bool timedout = false; /* a switch ended by its timeout */",
 )
 AGENT_DECLARATIONS = (
     "bool {active} = {initially}; /* {path} is running */",
     "bool {leaving} = false; /* a switch removes {path}: leaving() */",
 )
-# the never claims of the built-in checks (V006-V008), named apart from the users' properties
-LOSS_CLAIM, TIMEOUT_CLAIM, EXCLUSIVE_CLAIM = "earl_lost", "earl_timedout", "earl_exclusive"
+# the never claims of the built-in checks (V006-V009), named apart from the users' properties
+LOSS_CLAIM, TIMEOUT_CLAIM, EXCLUSIVE_CLAIM, DROP_CLAIM = "earl_lost", "earl_timedout", "earl_exclusive", "earl_dropped"
+# what a send that a closed link drops does: the mark names the link's counter and the switch's target
+DROP = 'printf("{mark} dropped {counter} %d\\n", nxt); dropped = true'
 
 
 @dataclass(frozen=True, slots=True)
@@ -85,15 +98,48 @@ class Reconfiguration:
         return tuple(i for i, s in enumerate(self.structures) if s.has_link(link.path))
 
     def link_open(self, link: Link) -> str | None:
-        """The Promela condition under which ``link`` delivers, None when always."""
+        """The Promela condition under which ``link`` delivers, None when always: while the
+        configuration holds it and, during a switch, while the next one holds it too or it lingers."""
         if link.path not in self.varying:
             return None
         held = self.holds(link)
         if not held:
             return "false"
-        now = " || ".join(f"cfg == {i}" for i in held)
-        then = " || ".join(f"nxt == {i}" for i in held)
-        return f"({now}) && (!switching || {then})"
+        lingering = self.lingering(link)
+        return f"({_one_of('cfg', held)}) && (!switching || {_one_of('nxt', held)}" + (
+            f" || {lingering})" if lingering else ")")
+
+    def lingering(self, link: Link) -> str:
+        """The Promela condition under which ``link`` stays open through a pending switch the next
+        configuration lacks it in (variability.lingers): its sender leaves and has not stopped yet,
+        its receiver stays; "" when it never does."""
+        switches: dict[tuple[int, ...], list[int]] = {}  # the next configurations -> the current ones
+        for i, before in enumerate(self.structures):
+            after = tuple(j for j, s in enumerate(self.structures) if lingers(self.system, link, before, s))
+            if after:
+                switches.setdefault(after, []).append(i)
+        sender = self.agent(link_agents(self.system, link)[0])
+        if not switches or sender is None:  # a sender that leaves is a variable agent
+            return ""
+        held = list(self.holds(link))
+        if list(switches.values()) == [held]:  # the same from every configuration that holds it
+            ((after, _),) = switches.items()
+            when = _one_of("nxt", after)
+        else:
+            when = " || ".join(f"({_one_of('cfg', tuple(now))}) && ({_one_of('nxt', after)})"
+                               for after, now in switches.items())
+        return f"{sender.leaving} && {sender.active} && " + (f"({when})" if " || " in when else when)
+
+    def link_drops(self, link: Link) -> str | None:
+        """The Promela condition under which a send on ``link`` is dropped: its sender leaves and
+        has not stopped, the configuration holds the link, and it is closed (not ``link_open``);
+        None when its sender is always present or no configuration holds it."""
+        held = self.holds(link)
+        sender = self.agent(link_agents(self.system, link)[0])
+        if link.path not in self.varying or sender is None or not held:
+            return None
+        return (f"switching && {sender.leaving} && {sender.active} && ({_one_of('cfg', held)}) "
+                f"&& !({self.link_open(link)})")
 
     def begin(self, target: int, state: int) -> str:
         """The effects of the coordinator's iteration that begins a switch to configuration ``target``."""
@@ -136,8 +182,12 @@ def exclusive_pairs(rc: Reconfiguration) -> list[tuple[VariableAgent, VariableAg
 
 
 def claims(rc: Reconfiguration) -> list[str]:
-    """The never claims of the built-in checks V006-V008."""
+    """The never claims of the built-in checks V006-V009."""
     pairs = exclusive_pairs(rc)
     together = " || ".join(f"({a.active} && {b.active})" for a, b in pairs) or "false"
     return [f"ltl {LOSS_CLAIM} {{ [] !lost }}", f"ltl {TIMEOUT_CLAIM} {{ [] !timedout }}",
-            f"ltl {EXCLUSIVE_CLAIM} {{ [] !({together}) }}"]
+            f"ltl {EXCLUSIVE_CLAIM} {{ [] !({together}) }}", f"ltl {DROP_CLAIM} {{ [] !dropped }}"]
+
+
+def _one_of(variable: str, numbers: tuple[int, ...]) -> str:
+    return " || ".join(f"{variable} == {i}" for i in numbers)
