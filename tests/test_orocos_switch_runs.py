@@ -182,7 +182,7 @@ def test_two_arm_deployments_under_load_hand_every_command_over(
     with cpu_hogs():
         for attempt in range(1, TWO_ARM_RUNS + 1):
             lines, found = deployer.run(lambda out: two_arm_finished(out, "task_a_cs"))
-            found += two_arm_problems(lines)
+            found += two_arm_problems(lines) + TwoArm.not_reset_at_restart(lines)
             if switches(lines) != two_arm_cpp_switches:
                 found.append(f"switches {switches(lines)}")
             latencies += latencies_ms(lines)

@@ -108,6 +108,16 @@ def test_the_deterministic_run_is_repeatable_and_hands_every_command_over(draine
     assert first[-1] == f"ran TwoArmCell for {CYCLES} cycles"
 
 
+def test_each_arm_resets_its_pfs_every_time_it_restarts(drained: Path) -> None:
+    """Every runtime calls a restarting arm's pf reset() (21 starts: manipA/a's first and 10 of
+    each arm after a switch); the check sees one that a runtime skipped."""
+    lines = run(drained, "--cycles", str(CYCLES)).splitlines()
+    resets = [line for line in lines if TwoArm.RESET.match(line)]
+    assert len(resets) == SWITCHES + 1 and TwoArm.not_reset_at_restart(lines) == []
+    skipped = resets[len(resets) // 2]
+    assert TwoArm.not_reset_at_restart([line for line in lines if line != skipped])
+
+
 @pytest.mark.loaded
 def test_threaded_runs_under_load_hand_every_command_over(drained: Path) -> None:
     failures, latencies = [], []

@@ -8,6 +8,7 @@ from __future__ import annotations
 import re
 import shutil
 import statistics
+from collections import Counter
 from pathlib import Path
 
 from tests.support.cpp_sample import cmake_build, generate_with_user_code
@@ -93,6 +94,7 @@ class TwoArm:
 
     SENT = re.compile(r"^task/a\.cs: sent seq (\d+) to (manip[AB]/a)$")
     TOOK = re.compile(r"^(manip[AB]/a)\.cs: took seq (\d+)$")
+    RESET = re.compile(r"^(manip[AB]/a)\.cs: reset before seq (\d+)$")
     FINISHED = re.compile(r"^step \d+ task/a\.cs: with[AB] -> finished ")
     NAMED = re.compile(r"^link (task/a,manip[AB]/a): seq (\d+) undelivered at switch$")
     COUNTED = re.compile(r"^link (task/a,manip[AB]/a): (\d+) value\(s\) undelivered at switch$")
@@ -124,7 +126,19 @@ class TwoArm:
             found.append(f"{len(matches)} switches")
         found += [f"{m.group(0)}: beyond {cls.TIMEOUT_MS} ms" for m in matches if float(m.group(3)) > cls.TIMEOUT_MS]
         found += undelivered(lines)
+        found += cls.not_reset_at_restart(lines)
         return found[:12]
+
+    @classmethod
+    def not_reset_at_restart(cls, lines: list[str]) -> list[str]:
+        """Each arm's pfs are reset every time it (re)starts, before its first command:
+        moveArm/pf prints ``reset before seq N`` then. manipA/a starts in useA and restarts at
+        each switch to useA, manipB/a at each switch to useB; each gets commands every time."""
+        joined = {"manipA/a": 1 + sum(1 for _, to in switches(lines) if to == "useA"),
+                  "manipB/a": sum(1 for _, to in switches(lines) if to == "useB")}
+        resets = Counter(m.group(1) for m in map(cls.RESET.match, lines) if m)
+        return [f"{arm} started {count} time(s), its pfs were reset before {resets[arm]} of them"
+                for arm, count in joined.items() if resets[arm] != count]
 
     @classmethod
     def unreconciled(cls, lines: list[str]) -> list[str]:

@@ -848,6 +848,10 @@ class SwitchedSubsystem : public Component, public Health {
   std::uint64_t iteration() const noexcept { return iteration_; }
   std::uint64_t steps() const noexcept { return steps_; }
   std::uint64_t timeouts() const noexcept { return timeouts_; }
+  /// The times the subsystem restarted (its agent rejoined with reactivation restart; its first
+  /// start not counted): a runtime whose pfs keep state outside Self (Orocos pf components)
+  /// resets them when this changes.
+  std::uint64_t restarts() const noexcept { return restarts_; }
   const FsmTables<Self>& tables() const noexcept { return tables_; }
 
  protected:
@@ -937,6 +941,7 @@ class SwitchedSubsystem : public Component, public Health {
     entered_ = true;
     ran_ = false;
     waiting_ = false;
+    ++restarts_;
     self.resetData(true);
     enter(tables_.initial, nullptr);
   }
@@ -1032,6 +1037,7 @@ class SwitchedSubsystem : public Component, public Health {
   std::uint64_t iteration_ = 0;
   std::uint64_t steps_ = 0;
   std::uint64_t timeouts_ = 0;
+  std::uint64_t restarts_ = 0;
   bool started_ = false;
   bool entered_ = true;
   bool ran_ = false;

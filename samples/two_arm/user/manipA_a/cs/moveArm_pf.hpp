@@ -16,7 +16,9 @@ namespace TwoArm::manipA_a::cs {
 /// Takes a new command (newCommand/pp: its seq is beyond lastSeq) and moves the joints a step
 /// of at most kMaxStep towards its setpoint; motionFinished once they are there. Prints
 ///   manipA/a.cs: took seq N
-/// for each command taken (manipB/a.cs for the other arm).
+/// for each command taken (manipB/a.cs for the other arm), and before the first one since the
+/// arm (re)started, its pf reset (reset(), which every runtime calls at a restart),
+///   manipA/a.cs: reset before seq N
 class moveArm_pf final : public moveArm_pf_base {
  public:
   using moveArm_pf_base::moveArm_pf_base;
@@ -26,7 +28,11 @@ class moveArm_pf final : public moveArm_pf_base {
     if (manipulatorCommand_ib_newData() && command.seq > lastSeq_mo()) {
       lastSeq_mo() = command.seq;
       target_ = command.jointPosSetpoint;
-      if (!two_arm::quiet()) std::printf("%s.cs: took seq %" PRId64 "\n", arm_, static_cast<std::int64_t>(command.seq));
+      if (!two_arm::quiet()) {
+        if (reset_) std::printf("%s.cs: reset before seq %" PRId64 "\n", arm_, static_cast<std::int64_t>(command.seq));
+        std::printf("%s.cs: took seq %" PRId64 "\n", arm_, static_cast<std::int64_t>(command.seq));
+      }
+      reset_ = false;
     }
     bool there = true;
     auto& q = jointPos_mo().q;
@@ -43,11 +49,15 @@ class moveArm_pf final : public moveArm_pf_base {
   }
 
   /// A restart (the arm rejoins): no setpoint kept from before.
-  void reset() noexcept { target_ = {}; }
+  void reset() noexcept {
+    target_ = {};
+    reset_ = true;
+  }
 
  private:
   const char* arm_ = two_arm::nextArm();
   ::TwoArm::types::JointPosition target_{};
+  bool reset_ = true;  // new, or reset(), and no command taken since
 };
 
 }  // namespace TwoArm::manipA_a::cs
