@@ -164,19 +164,22 @@ def translate(model: EarlModel, properties: tuple[LtlProperty, ...] = (), claim:
 def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None,
              drops: bool = False) -> dict[str, TrackedBuffer]:
     """The Input Buffers some state waits for without a timeout, and in a variable structure
-    every linked input of an agent a switch can remove (what a switch must drain) and every input
-    a variable link from a variable agent delivers to (what a leaving agent sends while it drains),
-    counted (per link when a variable link delivers to them). With ``drops`` (the search of V009)
-    a send a closed link drops sets ``dropped``; the other searches leave it out, so that an
-    iteration whose send goes nowhere still changes nothing there."""
+    every linked input of an agent a switch can remove (what a switch must drain), counted (per
+    link when a variable link delivers to them). With ``drops`` (the search of V009) also every
+    input a variable link from a variable agent delivers to (what a leaving agent sends while it
+    drains), and a send a closed link drops sets ``dropped``. The other searches leave both out:
+    an iteration whose send goes nowhere still changes nothing there, and a receiver that stays
+    (a robot queueing its task commands) adds no counter to their state space. In V009's search
+    an input tracked for that alone counts one value at most: whether a send is dropped does not
+    depend on how many wait."""
     tracked: dict[str, TrackedBuffer] = {}
     counters = 0
 
-    def track(buf: Buffer) -> None:
+    def track(buf: Buffer, counted: bool = True) -> None:
         nonlocal counters
         if buf.path in tracked:
             return
-        capacity = max(buf.queue_size, 1) if buf.receive == "queue" else 1
+        capacity = max(buf.queue_size, 1) if buf.receive == "queue" and counted else 1
         incoming = [link for link in model.links if link.target == buf.path] if rc else []
         if rc is not None and any(link.path in rc.varying for link in incoming):
             links = tuple(CountedLink(link, f"q{counters + n}", rc.link_open(link),
@@ -198,8 +201,8 @@ def _tracked(model: EarlModel, spec: Specification, rc: Reconfiguration | None,
         for agent in leaving_agents(rc.system):
             for buf in (b for sub in agent.subsystems for b in sub.inputs if b.path in fed):
                 track(buf)
-        for buf in _from_variable_agents(model, rc):
-            track(buf)
+        for buf in _from_variable_agents(model, rc) if drops else ():
+            track(buf, counted=False)
     spec.tracked = list(tracked.values())
     return tracked
 
