@@ -56,7 +56,10 @@ constexpr bool kAgents[] = {true, false, false, true};
 constexpr bool kLinks[] = {true, false, true, false, false, true, false, true};
 constexpr std::int16_t kStateConfiguration[] = {0, 1};  // withA: useA, withB: useB
 std::int64_t timeouts[] = {0, 0};
-const earl::SwitchTables kTables{kNames, 2, kAgents, 2, kLinks, 4, timeouts};
+// the variable agent sending and receiving each link (-1: task/a, in every configuration)
+constexpr std::int16_t kLinkSender[] = {-1, -1, 0, 1};
+constexpr std::int16_t kLinkReceiver[] = {0, 1, -1, -1};
+const earl::SwitchTables kTables{kNames, 2, kAgents, 2, kLinks, 4, timeouts, kLinkSender, kLinkReceiver};
 
 struct System {
   CommandLink toA, toB;

@@ -57,7 +57,10 @@ constexpr bool kAgents[] = {true, false, false, true};
 constexpr bool kLinkMask[] = {true, false, true, false, false, true, false, true};
 constexpr std::int16_t kStateConfiguration[] = {0, 1};
 std::int64_t timeouts[] = {0, 0};
-const earl::SwitchTables kTables{kNames, 2, kAgents, 2, kLinkMask, kLinks, timeouts};
+// the variable agent sending and receiving each link (-1: task/a, in every configuration)
+constexpr std::int16_t kLinkSender[] = {-1, -1, 0, 1};
+constexpr std::int16_t kLinkReceiver[] = {0, 1, -1, -1};
+const earl::SwitchTables kTables{kNames, 2, kAgents, 2, kLinkMask, kLinks, timeouts, kLinkSender, kLinkReceiver};
 
 using Command_ = earl::SwitchCommand<kLinks>;
 using Ack = earl::SwitchAck<kLinks>;
@@ -163,7 +166,7 @@ struct System {
     if (manipA.ready(now)) manipA.updateHook();
     if (manipA.status.sent() != sentA) {
       sentA = manipA.status.sent();
-      if (memberA.open(2)) {
+      if (memberA.admit(2)) {
         net.fromA.push(manipA.status.msg());
         memberA.sent(2);
       }
@@ -183,7 +186,7 @@ struct System {
     if (manipB.ready(now)) manipB.updateHook();
     if (manipB.status.sent() != sentB) {
       sentB = manipB.status.sent();
-      if (memberB.open(3)) {
+      if (memberB.admit(3)) {
         net.fromB.push(manipB.status.msg());
         memberB.sent(3);
       }
@@ -202,11 +205,11 @@ struct System {
     if (task.ready(now)) task.updateHook();
     if (task.command.sent() != sentCommand) {
       sentCommand = task.command.sent();
-      if (memberTask.open(0)) {
+      if (memberTask.admit(0)) {
         net.toA.push(task.command.msg());
         memberTask.sent(0);
       }
-      if (memberTask.open(1)) {
+      if (memberTask.admit(1)) {
         net.toB.push(task.command.msg());
         memberTask.sent(1);
       }

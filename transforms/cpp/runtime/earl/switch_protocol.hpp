@@ -459,8 +459,9 @@ class SwitchCoordinator final : public SwitchControl {
     if (acks_ < Nodes) {
       // the drain and the quiescence of the leaving agents are what the timeout bounds
       if ((round == SwitchRound::drain || round == SwitchRound::stop) && !command_.forced && timedOut()) force();
-      // and the arrival of a stopped agent's last values (a transport that dropped one)
-      if (round == SwitchRound::open && !command_.forced && timedOut()) {
+      // and the arrival of a stopped agent's last values, once the switch timeout itself passed
+      // (a transport that dropped one): none is lost, they are taken when they arrive
+      if (round == SwitchRound::open && !command_.forced && pastTimeout()) {
         ++timeouts_;
         command_.forced = true;
         send(SwitchRound::open);
@@ -570,6 +571,18 @@ class SwitchCoordinator final : public SwitchControl {
     const std::int64_t reserve = p + kRoundsAfterForce * std::max(p, slowestRound_ + slowestRound_ / 2);
     const std::int64_t reserved = std::max((kRoundsAfterForce + 1) * p, std::min(reserve, timeout / kMostReservedPart));
     return elapsed + reserved >= timeout;
+  }
+
+  /// The switch timeout has passed (no reserve for rounds to come: the open round is the last
+  /// that waits).
+  bool pastTimeout() const noexcept {
+    const std::int64_t timeout = tables_.timeoutNs[target_];
+    if (timeout < 0) return false;
+    if (cycles_) {
+      const std::int64_t p = period().count() > 0 ? period().count() : 1;
+      return static_cast<std::int64_t>(polls_) >= (timeout + p - 1) / p;
+    }
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started_).count() >= timeout;
   }
 
   void report() noexcept {
