@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
-TASK_QUEUE = 64  # tiago/a.cs's queue of task commands: 64 periods of a starved robot
+TASK_QUEUE = 256  # tiago/a.cs's queue of task commands: a task phase's commands, should the robot be starved
 TIAGO_ACTIVATION = {"bufferGroup": "tasks", "minPeriod": "0.0005", "firstTimeout": "0.002", "nextTimeout": "0.002"}
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
