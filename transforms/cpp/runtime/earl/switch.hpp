@@ -651,11 +651,6 @@ class Switch final : public SwitchControl {
       if (refused > 0) observer_->writtenClosed(links_[l].name, refused);
     }
   }
-  std::uint64_t writtenClosed() const noexcept {
-    std::uint64_t total = 0;
-    for (std::size_t l = 0; l < tables_.linkCount; ++l) total += links_[l].gate->refused();
-    return total;
-  }
 
   /// Values cleared on ``link`` at this switch: counted and told to the observer.
   void report(const char* link, std::uint64_t count) noexcept {

@@ -132,7 +132,7 @@ class SwitchMember final : public SwitchControl {
   }
 
   /// Whether a value sent now goes out on the variable link ``link`` (sent() counts it); a value
-  /// it refuses is counted (writtenClosed()).
+  /// it refuses is counted (reportWrittenClosed()).
   bool admit(std::size_t link) noexcept {
     if (link >= Links) return false;
     if (!open_[link]) ++refused_[link];
